@@ -1,0 +1,84 @@
+#pragma once
+// The Feather model: what the generator builds, the curve file stores and the
+// renderer draws. World units are millimetres; the feather lies in the XY plane,
+// shaft from the calamus (y = 0) toward the tip (+Y), dorsal side toward +Z
+// (DESIGN §3). Every curve is a uniform cubic B-spline (bspline.h).
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace plumage {
+
+enum class CurveKind { Shaft, Barb };
+// The vane a barb belongs to. Seen from the dorsal side (+Z) with the tip up,
+// Left barbs lie at x < 0 of the shaft and Right barbs at x > 0.
+enum class VaneSide { None, Left, Right };
+
+const char* to_string(CurveKind k);
+const char* to_string(VaneSide s);
+
+// One control point: position and radius (mm), and the vane-surface normal
+// (unit; dorsal). For the shaft the normal is the dorsal direction too.
+struct ControlPoint {
+  glm::vec3 p{0};
+  float radius = 0;
+  glm::vec3 n{0, 0, 1};
+  bool operator==(const ControlPoint&) const = default;
+};
+
+struct Curve {
+  CurveKind kind = CurveKind::Barb;
+  VaneSide side = VaneSide::None;       // None for the shaft
+  float root = 0;                        // barbs: root position along the shaft, arc-length fraction in [0,1]
+  std::vector<ControlPoint> points;      // >= 4 (uniform cubic B-spline)
+  bool operator==(const Curve&) const = default;
+};
+
+// The substructure parameters of one vane (DESIGN §5, paper §5.3).
+struct SubstructureParams {
+  int barbules_per_side = 0;       // N: barbules per side of a barb, along its whole length
+  float ramus_radius = 0;          // r_r (mm)
+  float barbule_radius = 0;        // r_b (mm)
+  float elevation_deg = 45;        // theta_b: barbule angle from the barb tangent, in the vane plane
+  float azimuth_deg = 0;           // phi_b: lift of the barbule out of the vane, about b
+  float hooked_fraction = 0;       // fraction of a distal barbule's length that bends (pennulum hooks)
+  float ribbon_width = 0;          // W (mm): full width of the barb ribbon
+  bool operator==(const SubstructureParams&) const = default;
+};
+
+// Where the albedo comes from: a constant linear RGB colour, or a texture image
+// mapped onto the feather's XY plane by an axis-aligned rectangle (mm).
+struct Albedo {
+  glm::vec3 color{0.5f};                 // used when texture is empty, and as fallback
+  std::string texture;                   // path, relative to the curve file's folder
+  glm::vec2 rect_min{0}, rect_max{0};    // texture (0,0) at rect_min (x, y) ... (1,1) at rect_max
+  bool operator==(const Albedo&) const = default;
+};
+
+struct Provenance {
+  std::string source;                    // "preset:osprey-covert", "photo:path.jpg", ...
+  std::optional<std::uint64_t> seed;
+  bool operator==(const Provenance&) const = default;
+};
+
+struct Feather {
+  std::string units = "mm";
+  Provenance provenance;
+  Albedo albedo;
+  SubstructureParams left, right;        // per vane
+  std::vector<Curve> curves;             // the shaft (if any) first, then barbs
+
+  const SubstructureParams& substructure(VaneSide s) const { return s == VaneSide::Right ? right : left; }
+  SubstructureParams& substructure(VaneSide s) { return s == VaneSide::Right ? right : left; }
+  const Curve* shaft() const;
+  std::size_t count(CurveKind k) const;
+  std::size_t count(VaneSide s) const;
+  std::size_t num_control_points() const;
+  bool operator==(const Feather&) const = default;
+};
+
+}  // namespace plumage

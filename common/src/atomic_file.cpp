@@ -1,0 +1,71 @@
+#include "plumage/common/atomic_file.h"
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <system_error>
+#include <unistd.h>
+
+#include "plumage/common/error.h"
+
+namespace plumage {
+namespace fs = std::filesystem;
+
+namespace {
+fs::path temp_name_for(const fs::path& path) {
+  static std::atomic<unsigned> counter{0};
+  fs::path tmp = path;
+  // ".name.tmp-PID-N.ext": hidden, unique per process and call, same extension.
+  std::string stem = "." + path.stem().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
+                     std::to_string(counter++);
+  tmp.replace_filename(stem + path.extension().string());
+  return tmp;
+}
+}  // namespace
+
+void write_via_temp(const fs::path& path, const std::function<void(const fs::path&)>& write) {
+  if (path.empty()) throw Error("output path is empty: give a file name");
+  fs::path dir = path.parent_path();
+  if (!dir.empty() && !fs::is_directory(dir))
+    throw Error(Location{path.string()}, "cannot write: directory '" + dir.string() +
+                                             "' does not exist (create it first)");
+  const fs::path tmp = temp_name_for(path);
+  try {
+    write(tmp);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw;
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw Error(Location{path.string()}, "cannot rename temporary file into place: " + ec.message());
+  }
+}
+
+void write_file_atomic(const fs::path& path, std::string_view contents) {
+  write_via_temp(path, [&](const fs::path& tmp) {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw Error(Location{path.string()}, std::string("cannot open for writing: ") + std::strerror(errno));
+    out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
+    out.flush();
+    if (!out) throw Error(Location{path.string()}, "write failed (disk full?)");
+  });
+}
+
+std::string read_file(const fs::path& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw Error(Location{path.string()}, "is a directory, expected a file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(Location{path.string()}, std::string("cannot open: ") + std::strerror(errno));
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw Error(Location{path.string()}, "read failed");
+  return std::move(ss).str();
+}
+
+}  // namespace plumage

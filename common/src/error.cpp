@@ -1,0 +1,25 @@
+#include "plumage/common/error.h"
+
+namespace plumage {
+
+std::string format_location(const Location& where) {
+  if (where.file.empty()) return {};
+  std::string s = where.file;
+  if (where.line > 0) {
+    s += ':';
+    s += std::to_string(where.line);
+    if (where.column > 0) {
+      s += ':';
+      s += std::to_string(where.column);
+    }
+  }
+  s += ": ";
+  return s;
+}
+
+Error::Error(Location where, std::string message)
+    : std::runtime_error(format_location(where) + message),
+      where_(std::move(where)),
+      message_(std::move(message)) {}
+
+}  // namespace plumage
