@@ -1,0 +1,39 @@
+#pragma once
+// The one image type and the one image reader/writer of Plumage (OpenImageIO).
+// Pixels are linear float, row-major, top row first, interleaved channels.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace plumage {
+
+struct Image {
+  int width = 0, height = 0, channels = 0;
+  std::vector<float> pixels;
+
+  Image() = default;
+  Image(int w, int h, int c, float fill = 0.0f)
+      : width(w), height(h), channels(c), pixels(std::size_t(w) * h * c, fill) {}
+  float* at(int x, int y) { return &pixels[(std::size_t(y) * width + x) * channels]; }
+  const float* at(int x, int y) const { return &pixels[(std::size_t(y) * width + x) * channels]; }
+  glm::vec3 rgb(int x, int y) const;        // channels 0..2 (grey replicated)
+  void set_rgb(int x, int y, const glm::vec3& c);
+  bool empty() const { return pixels.empty(); }
+};
+
+float srgb_to_linear(float v);
+float linear_to_srgb(float v);
+
+// Writes atomically. The extension picks the format: .exr (linear float, as is),
+// .hdr (linear), anything else (.png, .jpg, .tif, ...) is 8-bit with the sRGB
+// transfer curve applied to colour channels (alpha stays linear), clamped to [0,1].
+void write_image(const std::filesystem::path& path, const Image& img);
+
+// Reads any format OIIO knows. 8/16-bit integer files are taken to be sRGB and
+// converted to linear unless `linearize` is false; float files are returned as is.
+// Throws plumage::Error naming the file and the problem.
+Image read_image(const std::filesystem::path& path, bool linearize = true);
+
+}  // namespace plumage
