@@ -5,8 +5,9 @@
 
 namespace plumage {
 namespace {
-// Embree's ray-facing ribbon runs from v = 0 to v = 1 along -y of our frame
-// (checked by render_fibre_frame_test against the hit's geometric offset).
+// Embree 3.13 reports v in [-1, 1] across a flat ribbon (not [0, 1] as the
+// documentation of other curve types suggests), increasing along -y of our frame;
+// render_scene_test checks both facts against the hit's geometric offset.
 constexpr float kEmbreeRibbonSign = -1.0f;
 }  // namespace
 
@@ -24,7 +25,7 @@ Frame fibre_frame(const glm::vec3& tangent, const glm::vec3& wo) {
 }
 
 FibreFrame flat_fibre_frame(const glm::vec3& tangent, const glm::vec3& wo, float v) {
-  const float h = std::clamp(kEmbreeRibbonSign * (2.0f * v - 1.0f), -1.0f, 1.0f);
+  const float h = std::clamp(kEmbreeRibbonSign * v, -1.0f, 1.0f);
   return {fibre_frame(tangent, wo), h};
 }
 

@@ -17,8 +17,8 @@ struct FibreFrame {
 // The frame for a fibre with tangent `tangent` seen along `wo` (pointing away from the fibre).
 Frame fibre_frame(const glm::vec3& tangent, const glm::vec3& wo);
 
-// Flat (ray-facing) ribbon: h comes from the hit's v across the ribbon, h = 2v - 1,
-// with the sign of Embree's ribbon orientation folded in so h runs along +y.
+// Flat (ray-facing) ribbon: h comes from the hit's v across the ribbon. Embree 3.13
+// gives v in [-1, 1] running along -y, so h = -v (a v in [0, 1] would need 2v - 1).
 FibreFrame flat_fibre_frame(const glm::vec3& tangent, const glm::vec3& wo, float v);
 
 // Round curve: Embree reports v = 0, so h is the hit point's offset from the
