@@ -13,6 +13,7 @@
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
+#include "float_text.h"
 
 namespace plumage {
 
@@ -22,19 +23,8 @@ namespace {
 
 constexpr double kNormalTolerance = 1e-3;  // accepted deviation of |n| from 1
 
-void append_float(std::string& out, float v) {
-  char buf[32];
-  // Shortest form that reads back to the same float (C++17 to_chars guarantee).
-  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
-  out.append(buf, end);
-}
-
-template <class Int>
-void append_int(std::string& out, Int v) {
-  char buf[32];
-  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
-  out.append(buf, end);
-}
+using detail::append_float;
+using detail::append_int;
 
 bool printable_string(const std::string& s) {
   for (unsigned char c : s)
@@ -51,11 +41,11 @@ void append_quoted(std::string& out, const std::string& s) {
   out += '"';
 }
 
+}  // namespace
+
 // The writer refuses what the reader would refuse, so every file it writes reads back.
-void check_writable(const Feather& f) {
-  auto fail = [](const std::string& what) {
-    throw Error("cannot write .fcurves: " + what);
-  };
+void validate_feather(const Feather& f) {
+  auto fail = [](const std::string& what) { throw Error("invalid feather: " + what); };
   if (f.units != "mm") fail("units are '" + f.units + "'; Plumage works in millimetres ('mm')");
   if (!printable_string(f.provenance.source))
     fail("provenance source contains a control character (newline, tab, ...)");
@@ -102,6 +92,8 @@ void check_writable(const Feather& f) {
     }
   }
 }
+
+namespace {
 
 // ---------------------------------------------------------------- reading ---
 
@@ -523,7 +515,7 @@ Feather Reader::parse() {
 }  // namespace
 
 std::string format_fcurves(const Feather& f) {
-  check_writable(f);
+  validate_feather(f);
   std::string out;
   out.reserve(256 + f.num_control_points() * 64 + f.curves.size() * 48);
   out += "fcurves ";
