@@ -179,6 +179,8 @@ bool Reader::next_line() {
           continue;
         }
         if (s[i] == '"') { ++i; break; }
+        if (static_cast<unsigned char>(s[i]) < 0x20 || s[i] == 0x7f)
+          fail(static_cast<int>(i) + 1, "control character in a string: strings are one line of printable text");
         ++i;
       }
       if (i < n && s[i] != ' ' && s[i] != '\t' && s[i] != '#')
@@ -261,7 +263,8 @@ void Reader::expect_count(std::size_t n, const std::string& form) const {
 }
 
 void Reader::parse_header_line() {
-  if (!next_line() || tok_.empty() || tok_[0].text != "fcurves")
+  if (!next_line()) line_no_ = 1;  // an empty file: point at its first line
+  if (line_no_ != 1 || tok_.empty() || tok_[0].text != "fcurves")
     fail(1, "missing header: the first line must be 'fcurves " + std::to_string(kFcurvesVersion) +
                 "' (is this a .fcurves file?)");
   if (tok_.size() < 2) fail(end_column(), "header: expected a version number after 'fcurves'");
