@@ -124,10 +124,9 @@ void append_pbrt_curve(std::string& out, const Curve& c, PbrtVersion v) {
     // Ribbons need the normal at each segment joint: segments + 1 of them.
     out += "\n  \"normal N\" [";
     for (std::size_t k = 0; k <= segments; ++k) {
+      // Never zero: the middle weight 4/6 outweighs the other two (1/6 each) for unit normals.
       const glm::dvec3 nn(at_joint(cp, k, &ControlPoint::n));
-      const double len = glm::length(nn);
-      // Opposed normals can cancel; the middle control normal is then the best guess.
-      const glm::vec3 unit = len > 1e-12 ? glm::vec3(nn / len) : cp[k + 1].n;
+      const glm::vec3 unit(nn / glm::length(nn));
       out += ' ';
       append_vec3(out, unit);
     }
