@@ -111,7 +111,9 @@ HairBCSDF::HairBCSDF(const HairParams& params, float h) : p_(params) {
   v_[1] = 0.25 * v;
   v_[2] = 4.0 * v;
   v_[3] = 4.0 * v;
+  for (int p = 0; p < kLobes; ++p) mp_log_norm_[p] = hair::longitudinal_mp_log_norm(v_[p]);
   s_ = hair::logistic_scale_from_beta_n(p_.beta_n);
+  np_norm_ = hair::trimmed_logistic_norm(s_);
 
   // Marschner et al. 2003 Table 1 shifts, in the 2^k alpha form: R by 2 alpha toward
   // the root, TT by alpha and TRT by 4 alpha toward the tip. The shift is applied to
@@ -178,14 +180,14 @@ HairBCSDF::Eval HairBCSDF::eval(const glm::vec3& wo, const glm::vec3& wi) const 
   for (int p = 0; p < 3; ++p) {
     const double sin_op = o.sin * cos_shift_[p] + o.cos * sin_shift_[p];
     const double cos_op = o.cos * cos_shift_[p] - o.sin * sin_shift_[p];
-    const double mp = hair::longitudinal_mp(i.sin, i.cos, sin_op, cos_op, v_[p]);
+    const double mp = hair::longitudinal_mp(i.sin, i.cos, sin_op, cos_op, v_[p], mp_log_norm_[p]);
     const double np = hair::trimmed_logistic(
-        hair::wrap_angle(phi - hair::azimuthal_shift(p, gamma_o_, at.gamma_t)), s_);
+        hair::wrap_angle(phi - hair::azimuthal_shift(p, gamma_o_, at.gamma_t)), s_, np_norm_);
     f += at.A[p] * (mp * np);
     pdf += at.weight[p] * (mp * np);
   }
   // The residual lobe: unshifted, azimuthally uniform (Chiang et al. 2016 §4.1).
-  const double mp3 = hair::longitudinal_mp(i.sin, i.cos, o.sin, o.cos, v_[3]);
+  const double mp3 = hair::longitudinal_mp(i.sin, i.cos, o.sin, o.cos, v_[3], mp_log_norm_[3]);
   f += at.A[3] * (mp3 / (2.0 * kPi));
   pdf += at.weight[3] * (mp3 / (2.0 * kPi));
 

@@ -43,11 +43,18 @@ inline double logistic_scale_from_beta_n(double beta_n) {
 // evaluated as exp of its log with csch(1/v)/(2v) = e^{-1/v} / (v (1 - e^{-2/v})),
 // which is exact for every v and stable as v -> 0 (their eq. 8 is its limit).
 // Normalised so that the integral of Mp(theta_i) cos(theta_i) d theta_i is 1.
-inline double longitudinal_mp(double sin_i, double cos_i, double sin_o, double cos_o, double v) {
+inline double longitudinal_mp_log_norm(double v) {
+  return -std::log(v) - 1.0 / v - std::log1p(-std::exp(-2.0 / v));
+}
+// log_norm = longitudinal_mp_log_norm(v), which a BCSDF precomputes per lobe.
+inline double longitudinal_mp(double sin_i, double cos_i, double sin_o, double cos_o, double v,
+                              double log_norm) {
   const double a = std::abs(cos_i * cos_o) / v;
   const double b = sin_i * sin_o / v;
-  const double log_norm = -std::log(v) - 1.0 / v - std::log1p(-std::exp(-2.0 / v));
   return std::exp(log_norm - b + log_bessel_i0(a));
+}
+inline double longitudinal_mp(double sin_i, double cos_i, double sin_o, double cos_o, double v) {
+  return longitudinal_mp(sin_i, cos_i, sin_o, cos_o, v, longitudinal_mp_log_norm(v));
 }
 
 // Samples sin(theta_i) from Mp by sampling the von Mises-Fisher lobe that Mp is the
@@ -71,8 +78,10 @@ inline double logistic(double x, double s) {
 
 // The logistic restricted to [-pi, pi] and renormalised (Chiang et al. 2016 eq. 12);
 // its integral over [-pi, pi] is F(pi) - F(-pi) = tanh(pi / (2 s)).
+inline double trimmed_logistic_norm(double s) { return 1.0 / std::tanh(kPi / (2.0 * s)); }
+inline double trimmed_logistic(double x, double s, double norm) { return logistic(x, s) * norm; }
 inline double trimmed_logistic(double x, double s) {
-  return logistic(x, s) / std::tanh(kPi / (2.0 * s));
+  return trimmed_logistic(x, s, trimmed_logistic_norm(s));
 }
 
 // Inverts the trimmed logistic's CDF (Chiang et al. 2016 eq. 13): u in [0,1] -> [-pi, pi].

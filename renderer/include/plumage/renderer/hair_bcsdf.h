@@ -35,9 +35,10 @@ void validate(const HairParams& params, const std::string& what = "hair BCSDF");
 
 // The cosine that f is "without": cos of the longitudinal angle of w, i.e. the
 // cosine to the fibre's normal plane, sqrt(1 - w.x^2). Integrate f * bcsdf_cos(wi).
+// (1-s)(1+s) rather than 1-s^2: exact rounding near the tangent, where f ~ 1/cos.
 inline float bcsdf_cos(const glm::vec3& w) {
   const float s = glm::clamp(w.x, -1.0f, 1.0f);
-  return std::sqrt(glm::max(0.0f, 1.0f - s * s));
+  return std::sqrt((1.0f - s) * (1.0f + s));
 }
 
 // Absorption from melanin concentrations (Chiang et al. 2016, eumelanin and pheomelanin).
@@ -84,6 +85,8 @@ class HairBCSDF {
 
   // Precomputed per-instance terms (double: Mp subtracts terms of size 1/v).
   double v_[4];                                 // longitudinal variances of R, TT, TRT, residual
+  double mp_log_norm_[4];                       // log of Mp's normalisation per lobe
+  double np_norm_;                              // 1 / (mass of the logistic on [-pi, pi])
   double sin_shift_[3], cos_shift_[3];          // cuticle shifts of theta_o for R, TT, TRT
   double s_;                                    // logistic scale
   double gamma_o_, cos_gamma_o_;
