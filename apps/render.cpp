@@ -137,6 +137,7 @@ int run_render(const Options& o) {
 
   // Material.
   HairParams hp = o.hair;
+  validate(hp, "--beta-m/--beta-n/--alpha/--eta");
   std::optional<FibreMaterial> material;
   if (!o.sigma_a.empty()) {
     hp.sigma_a = parse_vec3(o.sigma_a, "--sigma-a");

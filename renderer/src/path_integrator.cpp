@@ -46,25 +46,24 @@ struct DiffuseScatter final : Scatter {
 };
 
 // A fibre hit: the hair BCSDF in the fibre frame. Its cosine is that of the
-// longitudinal angle, cos(theta_i) = sqrt(1 - wi.x^2) (Chiang et al. 2016 eq. 2).
+// longitudinal angle, cos(theta_i) = sqrt(1 - wi.x^2) (Chiang et al. 2016 eq. 2; bcsdf_cos).
 struct FibreScatter final : Scatter {
   FibreFrame ff;
   HairBCSDF bcsdf;
   glm::vec3 wo_local;
   FibreScatter(const FibreFrame& frame, const HairParams& params, const glm::vec3& wo)
       : ff(frame), bcsdf(params, frame.h), wo_local(frame.frame.to_local(wo)) {}
-  static float cos_theta(const glm::vec3& w) { return std::sqrt(std::fmax(0.0f, 1.0f - w.x * w.x)); }
   glm::vec3 f_cos(const glm::vec3& wi, float* pdf) const override {
     const glm::vec3 wl = ff.frame.to_local(wi);
     *pdf = bcsdf.pdf(wo_local, wl);
-    return bcsdf.f(wo_local, wl) * cos_theta(wl);
+    return bcsdf.f(wo_local, wl) * bcsdf_cos(wl);
   }
   bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const override {
     const auto s = bcsdf.sample(wo_local, {u.x, u.y}, {u.z, u.w});
     if (!s || !(s->pdf > 0)) return false;
     *wi = glm::normalize(ff.frame.to_world(s->wi));
     *pdf = s->pdf;
-    *weight = s->f * (cos_theta(s->wi) / s->pdf);
+    *weight = s->f * (bcsdf_cos(s->wi) / s->pdf);
     return true;
   }
 };
