@@ -225,8 +225,9 @@ class BandedNormalEquations {
     return t;
   }
 
-  // Returns false when M is not numerically positive definite.
-  bool solve(std::vector<glm::dvec3>& x) const {
+  // Returns false when a Cholesky pivot falls below `min_pivot` times its diagonal
+  // entry: M is then (numerically) singular.
+  bool solve(std::vector<glm::dvec3>& x, double min_pivot) const {
     const std::size_t n = m_.size();
     // l[j][k] = L(j, j-k).
     std::vector<std::array<double, kBand + 1>> l(n, {0, 0, 0, 0});
@@ -237,7 +238,7 @@ class BandedNormalEquations {
         double s = m_[i][j - i];
         for (std::size_t p = first; p < i; ++p) s -= L(j, p) * L(i, p);
         if (i == j) {
-          if (!(s > 1e-14 * m_[j][0])) return false;
+          if (!(s > min_pivot * m_[j][0])) return false;
           L(j, j) = std::sqrt(s);
         } else {
           L(j, i) = s / L(i, i);
@@ -363,23 +364,28 @@ BSpline3 fit_bspline(std::span<const glm::dvec3> points, int num_control_points,
     for (std::size_t k = 0; k < 4; ++k) add_term(terms, constant, seg + k, b[k]);
     eq.add_row(terms, q[j] - constant, 1.0);
   }
-  // A vanishing second-difference penalty (the P-splines of Eilers & Marx, Stat. Sci.
-  // 1996) keeps M positive definite when the points leave a control point
-  // undetermined (Schoenberg-Whitney fails), at a bias of about 1e-10 otherwise.
-  const double lambda = 1e-10 * eq.trace() / double(num_free);
-  for (std::size_t i = 0; i + 2 < n; ++i) {
-    terms.clear();
-    glm::dvec3 constant(0);
-    add_term(terms, constant, i, 1.0);
-    add_term(terms, constant, i + 1, -2.0);
-    add_term(terms, constant, i + 2, 1.0);
-    eq.add_row(terms, -constant, lambda);
-  }
-
+  // Plain least squares when the points determine every control point; otherwise
+  // (duplicates, clustered parameters: Schoenberg-Whitney fails) a small
+  // second-difference penalty, as in the P-splines of Eilers & Marx (Stat. Sci.
+  // 1996), lets the undetermined control points follow their neighbours smoothly.
   std::vector<glm::dvec3> x;
-  if (!eq.solve(x))
-    throw Error("fit_bspline: the points do not determine a curve (all at one parameter?); "
-                "spread them out or use fewer control points");
+  if (!eq.solve(x, 1e-10)) {
+    // Relative to the data's weight; the data may carry none at all (every point at
+    // a clamped end), and then the penalty alone shapes the inner control points.
+    double lambda = 1e-6 * eq.trace() / double(num_free);
+    if (!(lambda > 1e-12)) lambda = 1.0;
+    for (std::size_t i = 0; i + 2 < n; ++i) {
+      terms.clear();
+      glm::dvec3 constant(0);
+      add_term(terms, constant, i, 1.0);
+      add_term(terms, constant, i + 1, -2.0);
+      add_term(terms, constant, i + 2, 1.0);
+      eq.add_row(terms, -constant, lambda);
+    }
+    if (!eq.solve(x, 1e-14))
+      throw Error("fit_bspline: the points do not determine a curve (all at one parameter?); "
+                  "spread them out or use fewer control points");
+  }
   std::vector<glm::dvec3> cp(n);
   if (clamp_ends) {
     for (std::size_t i = 1; i + 1 < n; ++i) cp[i] = x[i - 1];
