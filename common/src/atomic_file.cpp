@@ -18,8 +18,10 @@ fs::path temp_name_for(const fs::path& path) {
   static std::atomic<unsigned> counter{0};
   fs::path tmp = path;
   // ".name.tmp-PID-N.ext": hidden, unique per process and call, same extension.
-  std::string stem = "." + path.stem().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
-                     std::to_string(counter++);
+  // Appended piecewise: `"." + std::string&&` trips GCC 12's false -Wrestrict (PR 105329).
+  std::string stem = ".";
+  stem += path.stem().string();
+  stem += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
   tmp.replace_filename(stem + path.extension().string());
   return tmp;
 }
