@@ -320,7 +320,8 @@ TEST(ArcLengthTable, ZeroLengthCurve) {
 double max_residual(const BSpline3& c, const std::vector<glm::dvec3>& pts,
                     const std::vector<double>& params) {
   double r = 0;
-  for (std::size_t j = 0; j < pts.size(); ++j) r = std::fmax(r, glm::length(c.eval(params[j]) - pts[j]));
+  for (std::size_t j = 0; j < pts.size(); ++j)
+    r = std::fmax(r, glm::length(c.eval(params[j]) - pts[j]));
   return r;
 }
 
@@ -338,13 +339,16 @@ double max_distance_to(const BSpline3& fit, F&& truth) {
     int best = 0;
     for (int i = 1; i <= samples; ++i)
       if (glm::length(p - dense[i]) < glm::length(p - dense[best])) best = i;
-    double a = std::max(0, best - 1) / double(samples), b = std::min(samples, best + 1) / double(samples);
+    double a = std::max(0, best - 1) / double(samples),
+           b = std::min(samples, best + 1) / double(samples);
     const double g = (std::sqrt(5.0) - 1) / 2;
     auto dist = [&](double t) { return glm::length(truth(t) - p); };
     for (int it = 0; it < 80; ++it) {
       const double c = b - g * (b - a), d = a + g * (b - a);
-      if (dist(c) < dist(d)) b = d;
-      else a = c;
+      if (dist(c) < dist(d))
+        b = d;
+      else
+        a = c;
     }
     worst = std::fmax(worst, dist(0.5 * (a + b)));
   }
@@ -383,7 +387,8 @@ TEST(BSplineFit, CircleArcAndHelixResidualsShrinkWithMoreControlPoints) {
   };
   for (const Case& cs : {Case{5, 1.5 * pi, 0}, Case{2, 6 * pi, 4}}) {
     auto truth = [&](double t) {
-      return glm::dvec3(cs.radius * std::cos(cs.turn * t), cs.radius * std::sin(cs.turn * t), cs.rise * t);
+      return glm::dvec3(cs.radius * std::cos(cs.turn * t), cs.radius * std::sin(cs.turn * t),
+                        cs.rise * t);
     };
     std::vector<glm::dvec3> pts;
     for (int j = 0; j <= 400; ++j) pts.push_back(truth(j / 400.0));
@@ -441,7 +446,8 @@ TEST(BSplineFit, ChordLengthParametersAreUsedByDefault) {
   // Unevenly spaced samples of a straight line: with chord-length parameters the
   // fit is the line itself, traversed at constant speed.
   std::vector<glm::dvec3> pts;
-  for (double x : {0.0, 0.1, 0.15, 1.0, 2.0, 2.05, 4.0, 7.0, 9.5, 10.0}) pts.push_back({x, 2 * x, -x});
+  for (double x : {0.0, 0.1, 0.15, 1.0, 2.0, 2.05, 4.0, 7.0, 9.5, 10.0})
+    pts.push_back({x, 2 * x, -x});
   const BSpline3 fit = fit_bspline(pts, 5);
   for (int i = 0; i <= 20; ++i) {
     const double t = i / 20.0;
@@ -473,7 +479,9 @@ TEST(BSplineFit, RejectsBadInput) {
 
 // --- stress ---------------------------------------------------------------------
 
-bool finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+bool finite(const glm::dvec3& p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+}
 
 TEST(BSplineStress, CoincidentControlPoints) {
   std::mt19937 rng(13);
@@ -496,7 +504,8 @@ TEST(BSplineStress, HugeAndTinyCoordinates) {
   std::mt19937 rng(14);
   // (size, offset): huge curves, unit curves far from the origin, tiny curves. A
   // tiny curve far away is not representable (1e5 carries ~1e-11 absolute precision).
-  const std::pair<double, double> cases[] = {{1e5, 0}, {1e5, 1e5}, {1.0, 1e5}, {1e-6, 0}, {1e-6, 1e-5}};
+  const std::pair<double, double> cases[] = {
+      {1e5, 0}, {1e5, 1e5}, {1.0, 1e5}, {1e-6, 0}, {1e-6, 1e-5}};
   for (const auto& [scale, off] : cases) {
     {
       const glm::dvec3 offset(off, -off, off);
@@ -540,10 +549,12 @@ TEST(BSplineFuzz, FitNeverReturnsNaN) {
     const int n = 4 + trial % std::max(1, m - 3);
     for (bool clamp : {false, true}) {
       BSpline3 fit;
-      ASSERT_NO_THROW(fit = fit_bspline(pts, n, {}, clamp)) << "trial " << trial << " clamp " << clamp;
+      ASSERT_NO_THROW(fit = fit_bspline(pts, n, {}, clamp))
+          << "trial " << trial << " clamp " << clamp;
       for (const auto& p : fit.control_points()) ASSERT_TRUE(finite(p)) << "trial " << trial;
       if (clamp) {
-        EXPECT_NEAR(glm::length(fit.eval(0) - pts.front()), 0.0, 1e-9 * (1 + glm::length(pts.front())));
+        EXPECT_NEAR(glm::length(fit.eval(0) - pts.front()), 0.0,
+                    1e-9 * (1 + glm::length(pts.front())));
       }
     }
   }

@@ -17,21 +17,25 @@ constexpr float kTol = 1e-5f;
 const float kNaN = std::numeric_limits<float>::quiet_NaN();
 const float kDenorm = std::numeric_limits<float>::denorm_min();
 
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const glm::vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 // Checked in double so the test's own rounding does not hide or fake an error.
 ::testing::AssertionResult is_orthonormal_right_handed(const Frame& f) {
-  if (!finite(f.t) || !finite(f.b) || !finite(f.n)) return ::testing::AssertionFailure() << "non-finite frame";
+  if (!finite(f.t) || !finite(f.b) || !finite(f.n))
+    return ::testing::AssertionFailure() << "non-finite frame";
   const glm::dvec3 t(f.t), b(f.b), n(f.n);
-  const double errors[] = {std::fabs(glm::length(t) - 1), std::fabs(glm::length(b) - 1),
-                           std::fabs(glm::length(n) - 1), std::fabs(glm::dot(t, b)),
-                           std::fabs(glm::dot(t, n)),     std::fabs(glm::dot(b, n)),
+  const double errors[] = {std::fabs(glm::length(t) - 1),    std::fabs(glm::length(b) - 1),
+                           std::fabs(glm::length(n) - 1),    std::fabs(glm::dot(t, b)),
+                           std::fabs(glm::dot(t, n)),        std::fabs(glm::dot(b, n)),
                            glm::length(glm::cross(n, t) - b)};
   for (double e : errors)
     if (!(e <= kTol))
       return ::testing::AssertionFailure()
-             << "error " << e << " in frame t=(" << t.x << "," << t.y << "," << t.z << ") b=(" << b.x << ","
-             << b.y << "," << b.z << ") n=(" << n.x << "," << n.y << "," << n.z << ")";
+             << "error " << e << " in frame t=(" << t.x << "," << t.y << "," << t.z << ") b=("
+             << b.x << "," << b.y << "," << b.z << ") n=(" << n.x << "," << n.y << "," << n.z
+             << ")";
   return ::testing::AssertionSuccess();
 }
 
@@ -83,7 +87,9 @@ TEST(Frame, FromNormalOverAMillionRandomDirections) {
     const glm::vec3 n = random_unit(rng);
     const Frame f = frame_from_normal(n);
     const bool ok = is_orthonormal_right_handed(f) && glm::length(f.n - n) <= kTol;
-    if (!ok && ++failures <= 5) ADD_FAILURE() << is_orthonormal_right_handed(f).message() << " for n=" << n.x << "," << n.y << "," << n.z;
+    if (!ok && ++failures <= 5)
+      ADD_FAILURE() << is_orthonormal_right_handed(f).message() << " for n=" << n.x << "," << n.y
+                    << "," << n.z;
   }
   EXPECT_EQ(failures, 0);
 }
@@ -113,11 +119,14 @@ TEST(Frame, FromNormalDegenerateInputIsStillAFrame) {
   for (const glm::vec3& n : {glm::vec3(0), glm::vec3(kNaN, 0, 1), glm::vec3(INFINITY, 0, 0),
                              glm::vec3(kDenorm, kDenorm, kDenorm), glm::vec3(1e30f, 1e30f, 1e30f),
                              glm::vec3(3, 0, 0), glm::vec3(0, 0, -1e-20f)}) {
-    EXPECT_TRUE(is_orthonormal_right_handed(frame_from_normal(n))) << n.x << "," << n.y << "," << n.z;
+    EXPECT_TRUE(is_orthonormal_right_handed(frame_from_normal(n)))
+        << n.x << "," << n.y << "," << n.z;
   }
   // A valid but unnormalised normal keeps its direction.
   EXPECT_LE(glm::length(frame_from_normal({0, 3, 4}).n - glm::vec3(0, 0.6f, 0.8f)), kTol);
-  EXPECT_LE(glm::length(frame_from_normal({1e30f, 1e30f, 0}).n - glm::vec3(std::sqrt(0.5f), std::sqrt(0.5f), 0)), kTol);
+  EXPECT_LE(glm::length(frame_from_normal({1e30f, 1e30f, 0}).n -
+                        glm::vec3(std::sqrt(0.5f), std::sqrt(0.5f), 0)),
+            kTol);
 }
 
 TEST(Frame, FromTangentNormalOverAMillionRandomPairs) {
@@ -134,7 +143,8 @@ TEST(Frame, FromTangentNormalOverAMillionRandomPairs) {
     const glm::dvec3 projected = glm::dvec3(hint) - glm::dot(glm::dvec3(hint), td) * td;
     if (glm::length(projected) > 1e-2 * glm::length(glm::dvec3(hint)))
       ok = ok && glm::length(glm::dvec3(f.n) - glm::normalize(projected)) <= 1e-4;
-    if (!ok && ++failures <= 5) ADD_FAILURE() << is_orthonormal_right_handed(f).message() << " at i=" << i;
+    if (!ok && ++failures <= 5)
+      ADD_FAILURE() << is_orthonormal_right_handed(f).message() << " at i=" << i;
   }
   EXPECT_EQ(failures, 0);
 }
@@ -144,8 +154,9 @@ TEST(Frame, FromTangentNormalAdversarial) {
   for (const glm::vec3& t : units)
     for (const glm::vec3& hint : units) {
       const Frame f = frame_from_tangent_normal(t, hint);
-      ASSERT_TRUE(is_orthonormal_right_handed(f)) << "t=" << t.x << "," << t.y << "," << t.z
-                                                  << " hint=" << hint.x << "," << hint.y << "," << hint.z;
+      ASSERT_TRUE(is_orthonormal_right_handed(f))
+          << "t=" << t.x << "," << t.y << "," << t.z << " hint=" << hint.x << "," << hint.y << ","
+          << hint.z;
       EXPECT_LE(glm::length(glm::dvec3(f.t) - glm::normalize(glm::dvec3(t))), kTol);
     }
 }
@@ -155,14 +166,20 @@ TEST(Frame, FromTangentNormalDegenerateHints) {
   for (int i = 0; i < 10000; ++i) {
     const glm::vec3 t = random_unit(rng);
     // Zero, parallel, anti-parallel, almost parallel, NaN, Inf, denormal, huge.
-    const glm::vec3 hints[] = {glm::vec3(0),          t,
-                               -t,                    3.0f * t,
-                               t + 1e-7f * random_unit(rng), glm::vec3(kNaN),
-                               glm::vec3(kNaN, 0, 0), glm::vec3(INFINITY, 1, 0),
-                               glm::vec3(kDenorm, 0, kDenorm), 1e30f * random_unit(rng)};
+    const glm::vec3 hints[] = {glm::vec3(0),
+                               t,
+                               -t,
+                               3.0f * t,
+                               t + 1e-7f * random_unit(rng),
+                               glm::vec3(kNaN),
+                               glm::vec3(kNaN, 0, 0),
+                               glm::vec3(INFINITY, 1, 0),
+                               glm::vec3(kDenorm, 0, kDenorm),
+                               1e30f * random_unit(rng)};
     for (const glm::vec3& hint : hints) {
       const Frame f = frame_from_tangent_normal(t, hint);
-      ASSERT_TRUE(is_orthonormal_right_handed(f)) << "i=" << i << " hint=" << hint.x << "," << hint.y << "," << hint.z;
+      ASSERT_TRUE(is_orthonormal_right_handed(f))
+          << "i=" << i << " hint=" << hint.x << "," << hint.y << "," << hint.z;
       EXPECT_LE(glm::length(f.t - t), kTol);
     }
   }
@@ -196,8 +213,9 @@ TEST(Frame, LocalWorldRoundTrip) {
 
 TEST(SafeNormalize, FallbackAndNormalCases) {
   const glm::vec3 fb(0, 1, 0);
-  for (const glm::vec3& v : {glm::vec3(0), glm::vec3(kNaN, 1, 1), glm::vec3(1, INFINITY, 0),
-                             glm::vec3(-INFINITY), glm::vec3(kDenorm, 0, 0), glm::vec3(1e-20f, 0, 0)})
+  for (const glm::vec3& v :
+       {glm::vec3(0), glm::vec3(kNaN, 1, 1), glm::vec3(1, INFINITY, 0), glm::vec3(-INFINITY),
+        glm::vec3(kDenorm, 0, 0), glm::vec3(1e-20f, 0, 0)})
     EXPECT_EQ(safe_normalize(v, fb), fb) << v.x << "," << v.y << "," << v.z;
   EXPECT_EQ(safe_normalize(glm::vec3(0)), glm::vec3(0, 0, 1));
   // Large and small but representable vectors normalise without overflow or underflow.

@@ -101,7 +101,8 @@ TEST_F(ImageFiles, PngRoundTripWithinOneQuantisationStep) {
     for (std::size_t i = 0; i < img.pixels.size(); ++i) {
       const bool is_alpha = int(i % channels) == alpha;
       // Compared where the file stores them: sRGB-encoded colour, linear alpha, in [0,1].
-      const double want = is_alpha ? std::clamp(double(img.pixels[i]), 0.0, 1.0) : srgb_encode(img.pixels[i]);
+      const double want =
+          is_alpha ? std::clamp(double(img.pixels[i]), 0.0, 1.0) : srgb_encode(img.pixels[i]);
       const double got = is_alpha ? back.pixels[i] : srgb_encode(back.pixels[i]);
       ASSERT_NEAR(got, want, 0.5 / 255 + 1e-5) << "channels=" << channels << " i=" << i;
     }
@@ -140,7 +141,8 @@ TEST_F(ImageFiles, ExrRoundTripIsBitExact) {
     ASSERT_EQ(back.pixels.size(), img.pixels.size());
     for (std::size_t i = 0; i < img.pixels.size(); ++i)
       ASSERT_EQ(std::memcmp(&back.pixels[i], &img.pixels[i], sizeof(float)), 0)
-          << "channels=" << channels << " i=" << i << ": " << back.pixels[i] << " vs " << img.pixels[i];
+          << "channels=" << channels << " i=" << i << ": " << back.pixels[i] << " vs "
+          << img.pixels[i];
   }
 }
 

@@ -46,7 +46,8 @@ void run_bar(bool quiet) {
 }  // namespace
 
 TEST(ProgressBar, SilentWhenStderrIsAFile) {
-  const fs::path log = fs::temp_directory_path() / ("plumage_progress_" + std::to_string(::getpid()) + ".log");
+  const fs::path log =
+      fs::temp_directory_path() / ("plumage_progress_" + std::to_string(::getpid()) + ".log");
   const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   ASSERT_GE(fd, 0);
   bool enabled = true;
@@ -80,7 +81,8 @@ TEST(ProgressBar, SilentWhenStderrIsAPipe) {
 // tests above would also pass for a bar that never draws at all.
 TEST(ProgressBar, DrawsOnATerminalUnlessQuiet) {
   const int master = ::posix_openpt(O_RDWR | O_NOCTTY);
-  if (master < 0 || ::grantpt(master) != 0 || ::unlockpt(master) != 0) GTEST_SKIP() << "no pseudo-terminals here";
+  if (master < 0 || ::grantpt(master) != 0 || ::unlockpt(master) != 0)
+    GTEST_SKIP() << "no pseudo-terminals here";
   const int slave = ::open(::ptsname(master), O_RDWR | O_NOCTTY);
   ASSERT_GE(slave, 0);
   auto drain = [&] {

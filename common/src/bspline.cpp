@@ -26,7 +26,8 @@ struct SegmentDerivative {
 
 SegmentDerivative segment_derivative(const BSpline3& c, std::size_t seg) {
   const auto& p = c.control_points();
-  const glm::dvec3 d0 = p[seg + 1] - p[seg], d1 = p[seg + 2] - p[seg + 1], d2 = p[seg + 3] - p[seg + 2];
+  const glm::dvec3 d0 = p[seg + 1] - p[seg], d1 = p[seg + 2] - p[seg + 1],
+                   d2 = p[seg + 3] - p[seg + 2];
   return {0.5 * (d0 + d1), d1 - d0, 0.5 * d0 - d1 + 0.5 * d2,
           glm::length(d0) + glm::length(d1) + glm::length(d2)};
 }
@@ -291,15 +292,16 @@ BSpline3 fit_bspline(std::span<const glm::dvec3> points, int num_control_points,
                 std::to_string(num_control_points));
   const std::size_t n = std::size_t(num_control_points), m = points.size();
   if (m < n)
-    throw Error("fit_bspline: " + std::to_string(m) + " points cannot determine " + std::to_string(n) +
-                " control points; give at least " + std::to_string(n) +
+    throw Error("fit_bspline: " + std::to_string(m) + " points cannot determine " +
+                std::to_string(n) + " control points; give at least " + std::to_string(n) +
                 " points or ask for fewer control points");
   if (!params.empty() && params.size() != m)
     throw Error("fit_bspline: " + std::to_string(params.size()) + " parameters for " +
                 std::to_string(m) + " points; give one parameter per point or none");
   for (std::size_t j = 0; j < m; ++j)
     if (!finite(points[j]))
-      throw Error("fit_bspline: point " + std::to_string(j) + " is not finite (NaN or Inf); remove it");
+      throw Error("fit_bspline: point " + std::to_string(j) +
+                  " is not finite (NaN or Inf); remove it");
   for (std::size_t j = 0; j < params.size(); ++j)
     if (!(params[j] >= 0.0 && params[j] <= 1.0))
       throw Error("fit_bspline: parameter " + std::to_string(j) + " (" + std::to_string(params[j]) +
@@ -383,8 +385,9 @@ BSpline3 fit_bspline(std::span<const glm::dvec3> points, int num_control_points,
       eq.add_row(terms, -constant, lambda);
     }
     if (!eq.solve(x, 1e-14))
-      throw Error("fit_bspline: the points do not determine a curve (all at one parameter?); "
-                  "spread them out or use fewer control points");
+      throw Error(
+          "fit_bspline: the points do not determine a curve (all at one parameter?); "
+          "spread them out or use fewer control points");
   }
   std::vector<glm::dvec3> cp(n);
   if (clamp_ends) {
