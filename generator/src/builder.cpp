@@ -167,7 +167,7 @@ struct VaneBuilder {
     const double eps = 1e-6 * lv;
     for (int j = 1; j < K; ++j) {
       for (int k = 0; k < n; ++k) {
-        s[k][j] = std::clamp(s[k][j], 0.0, lv);
+        s[k][j] = std::clamp(s[k][j], k * eps, lv);
         if (k > 0) s[k][j] = std::max(s[k][j], s[k - 1][j] + eps);
       }
       for (int k = n - 1; k >= 0; --k) {
