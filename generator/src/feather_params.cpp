@@ -398,6 +398,8 @@ FeatherParams parse_params(const std::string& text, const std::string& source) {
     const auto pos = what.find("syntax error");
     throw Error(Location{source, line, col},
                 "invalid JSON: " + (pos == std::string::npos ? what : what.substr(pos)));
+  } catch (const json::exception& e) {  // e.g. a number too large for a double
+    throw Error(Location{source}, std::string("invalid JSON: ") + e.what());
   }
   return params_from_json(j, source);
 }
