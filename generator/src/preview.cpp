@@ -65,6 +65,8 @@ Image render_preview(const Feather& feather, const PreviewOptions& options) {
   glm::vec2 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
   for (const Curve& c : feather.curves)
     for (const ControlPoint& p : c.points) {
+      if (!std::isfinite(p.p.x) || !std::isfinite(p.p.y) || !std::isfinite(p.radius))
+        throw Error("cannot draw a preview: a control point is not finite (NaN or infinity)");
       lo = glm::min(lo, glm::vec2(p.p));
       hi = glm::max(hi, glm::vec2(p.p));
     }
