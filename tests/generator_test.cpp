@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "plumage/common/bspline.h"
+#include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
 #include "plumage/generator/builder.h"
 #include "plumage/generator/presets.h"
@@ -259,6 +260,7 @@ TEST(Generator, ExtremeParametersGiveFiniteGeometry) {
   p.barb.control_points = 64;
   for (const FeatherParams& q : {p, [&] { auto r = p; r.shaft = {1, 0, -90, 90, 1e-4, 20, 4}; r.left.width = Profile({{0, 0}, {0.5, 2}, {1, 0}}); r.surface = {-1, -180, 256, 64}; return r; }()}) {
     const Feather f = build_feather(q, 0);
+    EXPECT_NO_THROW(validate_feather(f));  // the .fcurves rules hold even here
     for (const Curve& c : f.curves)
       for (const ControlPoint& cp : c.points) {
         ASSERT_TRUE(std::isfinite(cp.p.x) && std::isfinite(cp.p.y) && std::isfinite(cp.p.z));
