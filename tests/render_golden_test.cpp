@@ -1,9 +1,10 @@
-// A feather under the 25-LED dome compared with a stored reference image
-// (data/golden/render_feather_dome25.exr) with a tolerance, the way the Embree
+// The rock-dove preset feather (generator, seed 1) under the 25-LED dome compared
+// with a stored reference image (data/golden/render_rock_dove_dome25.exr) with a tolerance, the way the Embree
 // tutorials guard their renderers. After an intended change to the renderer or
 // the BCSDF, regenerate the reference with
 //   PLUMAGE_UPDATE_GOLDEN=1 build/plumage_tests --gtest_filter='RenderGolden.*'
-// and look at it before committing.
+// and look at it before committing. A change to the preset or the generator also
+// changes the picture and needs the same.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,7 +14,8 @@
 #include "plumage/common/image.h"
 #include "plumage/renderer/dome_rig.h"
 #include "plumage/renderer/render.h"
-#include "render_test_feather.h"
+#include "plumage/generator/builder.h"
+#include "plumage/generator/presets.h"
 
 using namespace plumage;
 namespace fs = std::filesystem;
@@ -23,7 +25,7 @@ namespace {
 Image render_under_dome(const std::string& led_selection, std::uint64_t seed = 1) {
   SceneOptions so;
   so.backdrop = {true, glm::vec3(0.8f)};
-  const Feather feather = test::make_test_feather(40.0f, 0.4f, 0.05f);
+  static const Feather feather = build_feather(load_preset("rock-dove-wing"), 1, "preset:rock-dove-wing");
   const Scene scene(feather, so);
   const DomeRig rig = read_dome_rig(fs::path(PLUMAGE_DATA_DIR) / "rigs/dome25.json");
   const AxisBox& fb = scene.feather_bounds();
@@ -33,7 +35,7 @@ Image render_under_dome(const std::string& led_selection, std::uint64_t seed = 1
     lights.add(l);
   const FibreMaterial material(HairParams{}, AlbedoMap(feather.albedo, "."));
   const PathIntegrator integrator(scene, lights, material, IntegratorSettings{8, 3});
-  const Camera camera(CameraSpec{}, 48, 40, fb);
+  const Camera camera(CameraSpec{}, 40, 64, fb);
   RenderSettings rs;
   rs.spp = 64;
   rs.seed = seed;
@@ -75,7 +77,7 @@ Diff compare(const Image& full_img, const Image& full_ref) {
   return {abs_sum / std::fmax(ref_sum, 1e-12), 10 * std::log10(peak * peak / std::fmax(sq_sum / n, 1e-30))};
 }
 
-const fs::path kGolden = fs::path(PLUMAGE_DATA_DIR) / "golden/render_feather_dome25.exr";
+const fs::path kGolden = fs::path(PLUMAGE_DATA_DIR) / "golden/render_rock_dove_dome25.exr";
 constexpr double kMaxRelMae = 0.03;
 constexpr double kMinPsnr = 28.0;
 
