@@ -210,7 +210,9 @@ const Registration kRender{
       sub.add_option("--rig", o->rig, "Light rig JSON file")->capture_default_str();
       sub.add_option("--env", o->env, "Environment: a grey value, R,G,B, or a lat-long .exr/.hdr image (+Z is up)");
       sub.add_option("--env-scale", o->env_scale, "Multiplier on the environment radiance")->capture_default_str();
-      sub.add_option("--directional", o->directional, "Directional light DX,DY,DZ,E or DX,DY,DZ,R,G,B (toward the light; irradiance); repeatable");
+      sub.add_option("--directional", o->directional, "Directional light DX,DY,DZ,E or DX,DY,DZ,R,G,B (toward the light; irradiance); repeatable")
+          ->allow_extra_args(false)
+          ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
       sub.add_option("--backdrop", o->backdrop, "Card under the feather: white (albedo 0.8), black (0.03) or none")->capture_default_str();
       sub.add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
       sub.add_option("--sampler", o->sampler, "sobol (Owen-scrambled, Burley 2020) or independent")->capture_default_str();
