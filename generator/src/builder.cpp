@@ -178,6 +178,7 @@ struct VaneBuilder {
         s[k][j] = std::min(s[k][j], lv - (n - 1 - k) * eps);
         if (k < n - 1) s[k][j] = std::min(s[k][j], s[k + 1][j] - eps);
       }
+      s[0][j] = std::max(s[0][j], 0.0);  // rounding in the passes above can leave -1e-20
     }
 
     barbs_traced += n;
