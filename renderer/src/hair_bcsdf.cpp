@@ -172,7 +172,9 @@ HairBCSDF::Attenuation HairBCSDF::attenuation(double sin_o, double cos_o) const 
 HairBCSDF::Eval HairBCSDF::eval(const glm::vec3& wo, const glm::vec3& wi) const {
   if (!finite(wo) || !finite(wi)) return {glm::dvec3(0.0), 0.0};
   const Longitude o = longitude(wo), i = longitude(wi);
-  const double phi = azimuth(wi) - azimuth(wo);
+  // phi_i - phi_o from the normal-plane projections: one atan2 instead of two.
+  const double phi = std::atan2(double(wi.y) * wo.z - double(wi.z) * wo.y,
+                                double(wi.z) * wo.z + double(wi.y) * wo.y);
   const Attenuation at = attenuation(o.sin, o.cos);
 
   glm::dvec3 f(0.0);
