@@ -111,19 +111,25 @@ HairBCSDF::HairBCSDF(const HairParams& params, float h) : p_(params) {
   v_[1] = 0.25 * v;
   v_[2] = 4.0 * v;
   v_[3] = 4.0 * v;
-  for (int p = 0; p < kLobes; ++p) mp_log_norm_[p] = hair::longitudinal_mp_log_norm(v_[p]);
+  for (int p = 0; p < 3; ++p) mp_log_norm_[p] = hair::longitudinal_mp_log_norm(v_[p]);
+  mp_log_norm_[3] = mp_log_norm_[2];
   s_ = hair::logistic_scale_from_beta_n(p_.beta_n);
   np_norm_ = hair::trimmed_logistic_norm(s_);
 
   // Marschner et al. 2003 Table 1 shifts, in the 2^k alpha form: R by 2 alpha toward
   // the root, TT by alpha and TRT by 4 alpha toward the tip. The shift is applied to
-  // theta_o: the lobe is centred on theta_i = -(theta_o + shift).
+  // theta_o: the lobe is centred on theta_i = -(theta_o + shift). Double-angle formulas
+  // give 2 alpha and 4 alpha from one sin/cos (this runs once per shading point).
   const double alpha = double(p_.alpha_deg) * kPi / 180.0;
-  const double shift[3] = {2.0 * alpha, -alpha, -4.0 * alpha};
-  for (int p = 0; p < 3; ++p) {
-    sin_shift_[p] = std::sin(shift[p]);
-    cos_shift_[p] = std::cos(shift[p]);
-  }
+  const double s1 = std::sin(alpha), c1 = std::cos(alpha);
+  const double s2 = 2.0 * s1 * c1, c2 = c1 * c1 - s1 * s1;
+  const double s4 = 2.0 * s2 * c2, c4 = c2 * c2 - s2 * s2;
+  sin_shift_[0] = s2;
+  cos_shift_[0] = c2;
+  sin_shift_[1] = -s1;
+  cos_shift_[1] = c1;
+  sin_shift_[2] = -s4;
+  cos_shift_[2] = c4;
   gamma_o_ = std::asin(double(h_));
   cos_gamma_o_ = std::sqrt(std::max(0.0, 1.0 - double(h_) * h_));
 }
