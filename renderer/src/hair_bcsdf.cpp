@@ -177,11 +177,15 @@ HairBCSDF::Attenuation HairBCSDF::attenuation(double sin_o, double cos_o) const 
 // sampling is sum_p w_p Mp Np (Mp Np is a density over solid angle).
 HairBCSDF::Eval HairBCSDF::eval(const glm::vec3& wo, const glm::vec3& wi) const {
   if (!finite(wo) || !finite(wi)) return {glm::dvec3(0.0), 0.0};
+  const Longitude o = longitude(wo);
+  return eval(wo, wi, attenuation(o.sin, o.cos));
+}
+
+HairBCSDF::Eval HairBCSDF::eval(const glm::vec3& wo, const glm::vec3& wi, const Attenuation& at) const {
   const Longitude o = longitude(wo), i = longitude(wi);
   // phi_i - phi_o from the normal-plane projections: one atan2 instead of two.
   const double phi = std::atan2(double(wi.y) * wo.z - double(wi.z) * wo.y,
                                 double(wi.z) * wo.z + double(wi.y) * wo.y);
-  const Attenuation at = attenuation(o.sin, o.cos);
 
   glm::dvec3 f(0.0);
   double pdf = 0.0;
@@ -247,7 +251,7 @@ std::optional<BCSDFSample> HairBCSDF::sample(const glm::vec3& wo, const glm::vec
       glm::vec3(glm::dvec3(sin_i, cos_i * std::sin(phi_i), cos_i * std::cos(phi_i))));
 
   // Re-evaluate at the float direction returned so f and pdf match f() and pdf() exactly.
-  const Eval e = eval(wo, wi);
+  const Eval e = finite(wi) ? eval(wo, wi, at) : Eval{glm::dvec3(0.0), 0.0};
   if (!(e.pdf > 0.0)) return std::nullopt;
   return BCSDFSample{wi, glm::vec3(e.f), static_cast<float>(e.pdf)};
 }

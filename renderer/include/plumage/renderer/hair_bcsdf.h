@@ -82,6 +82,7 @@ class HairBCSDF {
   struct Attenuation;
   Attenuation attenuation(double sin_o, double cos_o) const;
   Eval eval(const glm::vec3& wo, const glm::vec3& wi) const;
+  Eval eval(const glm::vec3& wo, const glm::vec3& wi, const Attenuation& at) const;
 
   // Precomputed per-instance terms (double: Mp subtracts terms of size 1/v).
   double v_[4];                                 // longitudinal variances of R, TT, TRT, residual
