@@ -242,6 +242,30 @@ TEST(HairBCSDF, WhiteFurnaceImportanceSampling) {
     }
 }
 
+// The furnace must also hold at the edges of the parameter space: eta near 1 and large,
+// strong tilt, grazing hits, wo near the tangent.
+TEST(HairBCSDF, WhiteFurnaceAtExtremeParameters) {
+  struct Case {
+    float eta, alpha_deg, h;
+    glm::vec3 wo;
+  };
+  const glm::vec3 oblique = glm::normalize(glm::vec3(0.4f, -0.3f, 0.8f));
+  const glm::vec3 near_tangent = glm::normalize(glm::vec3(0.995f, 0.05f, 0.08f));
+  const Case cases[] = {{1.0f, 2.0f, 0.4f, oblique},      {1.0001f, 2.0f, -0.7f, oblique},
+                        {3.0f, 2.0f, 0.2f, oblique},      {1.55f, 30.0f, 0.5f, oblique},
+                        {1.55f, 2.0f, 1.0f, oblique},     {1.55f, 2.0f, -1.0f, oblique},
+                        {1.55f, 2.0f, 0.3f, near_tangent}, {1.0f, 10.0f, 0.99f, near_tangent}};
+  Rng rng(10);
+  for (const Case& c : cases) {
+    HairParams p = params(0.5f, 0.5f, glm::vec3(0.0f), c.alpha_deg);
+    p.eta = c.eta;
+    const HairBCSDF bcsdf(p, c.h);
+    const glm::dvec3 e = stratified_sphere_integral(
+        400, rng, [&](const glm::vec3& wi) { return bcsdf.f(c.wo, wi) * bcsdf_cos(wi); });
+    EXPECT_NEAR(e.x, 1.0, 0.01) << describe(p, c.h, c.wo);
+  }
+}
+
 // Our pdf is proportional to f |cos| when sigma_a = 0, so the bound the issue asks for
 // (beta_n >= 0.4) holds for every beta_n; we check them all.
 TEST(HairBCSDF, SamplingWeightsAreOne) {
