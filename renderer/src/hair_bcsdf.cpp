@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
 
 #include "hair_terms.h"
 #include "plumage/common/error.h"
@@ -20,8 +21,8 @@ constexpr double kBetaMin = 1e-3;    // below this the lobes are narrower than f
 constexpr double kMaxAlphaDeg = 45;  // 4 alpha (TRT) stays within a half turn
 constexpr float kMinAlbedo = 1e-4f;  // ln(0) would make sigma_a infinite
 
-[[noreturn]] void fail(const std::string& what, const std::string& name, double value,
-                       const std::string& fix) {
+[[noreturn]] void fail(std::string_view what, std::string_view name, double value,
+                       std::string_view fix) {
   std::ostringstream msg;
   msg << what << ": " << name << " = " << value << " " << fix;
   throw Error(msg.str());
@@ -49,7 +50,7 @@ double azimuth(const glm::vec3& w) { return std::atan2(double(w.y), double(w.z))
 
 }  // namespace
 
-void validate(const HairParams& p, const std::string& what) {
+void validate(const HairParams& p, std::string_view what) {
   const auto roughness = [&](const char* name, float beta) {
     if (!(beta > 0.0f && beta <= 1.0f))
       fail(what, name, beta, "is outside (0, 1]; use a roughness between 0.001 and 1");
