@@ -465,9 +465,10 @@ TEST(HairBCSDF, FiniteAndNonNegativeOverExtremeInputs) {
     if (!s) continue;
     report(good(s->f) && std::isfinite(s->pdf) && s->pdf > 0, "sample f/pdf", p, h, wo);
     report(std::isfinite(s->wi.x) && std::abs(glm::length(s->wi) - 1.0f) < 1e-5f, "sample wi", p, h, wo);
-    report(s->f == bcsdf.f(wo, s->wi) && s->pdf == bcsdf.pdf(wo, s->wi), "sample != f/pdf", p, h, wo);
+    if (k % 8 == 0)  // re-evaluating is the costliest check; a sample of inputs suffices
+      report(s->f == bcsdf.f(wo, s->wi) && s->pdf == bcsdf.pdf(wo, s->wi), "sample != f/pdf", p, h, wo);
   }
-  EXPECT_GE(checked, 3000000);
+  EXPECT_GE(checked, 4000000);
   EXPECT_EQ(bad, 0) << "first: " << first_bad;
 }
 
