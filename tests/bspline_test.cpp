@@ -535,6 +535,21 @@ TEST(BSplineStress, HugeAndTinyCoordinates) {
   }
 }
 
+TEST(BSplineStress, NonFiniteControlPointsAreRejectedNotLoopedOn) {
+  for (double bad : {std::nan(""), double(INFINITY)}) {
+    std::vector<glm::dvec3> cp = {{0, 0, 0}, {1, 1, 0}, {2, 0, 1}, {3, 1, 0}, {4, 0, 0}};
+    cp[2].y = bad;
+    const BSpline3 c(cp);
+    EXPECT_THROW(tight_bounds(c), Error);
+    EXPECT_THROW(arc_length(c), Error);
+    EXPECT_THROW(ArcLengthTable{c}, Error);
+  }
+  // Finite, but lengths overflow: an error, not a NaN length or box.
+  const BSpline3 huge({{-1e308, 0, 0}, {1e308, 0, 0}, {-1e308, 0, 0}, {1e308, 0, 0}});
+  EXPECT_THROW(arc_length(huge), Error);
+  EXPECT_THROW(tight_bounds(huge), Error);
+}
+
 TEST(BSplineFuzz, FitNeverReturnsNaN) {
   std::mt19937 rng(15);
   std::uniform_int_distribution<int> pick(0, 5);
