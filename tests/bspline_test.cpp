@@ -312,6 +312,7 @@ TEST(ArcLengthTable, ZeroLengthCurve) {
   EXPECT_EQ(table.t_at(1.0), 0.0);
   EXPECT_EQ(table.s_at(0.5), 0.0);
   EXPECT_THROW(ArcLengthTable(c, 0), Error);
+  EXPECT_THROW(ArcLengthTable(c, 1 << 30), Error);  // would allocate gigabytes
 }
 
 // --- fitting ------------------------------------------------------------------

@@ -147,8 +147,8 @@ double arc_length(const BSpline3& c, double t0, double t1) {
 ArcLengthTable::ArcLengthTable(const BSpline3& c, int samples_per_segment)
     : curve_(c), samples_per_segment_(samples_per_segment) {
   require_valid(c, "ArcLengthTable");
-  if (samples_per_segment < 1)
-    throw Error("ArcLengthTable: samples_per_segment must be at least 1, got " +
+  if (samples_per_segment < 1 || samples_per_segment > 65536)
+    throw Error("ArcLengthTable: samples_per_segment must be in [1, 65536], got " +
                 std::to_string(samples_per_segment));
   const std::size_t n = c.num_segments(), k = std::size_t(samples_per_segment);
   const double intervals = double(n * k);
