@@ -18,11 +18,14 @@ fs::path temp_name_for(const fs::path& path) {
   static std::atomic<unsigned> counter{0};
   fs::path tmp = path;
   // ".name.tmp-PID-N.ext": hidden, unique per process and call, same extension.
-  // Appended piecewise: `"." + std::string&&` trips GCC 12's false -Wrestrict (PR 105329).
-  std::string stem = ".";
-  stem += path.stem().string();
-  stem += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-  tmp.replace_filename(stem + path.extension().string());
+  std::string name = ".";
+  name += path.stem().string();
+  name += ".tmp-";
+  name += std::to_string(::getpid());
+  name += '-';
+  name += std::to_string(counter++);
+  name += path.extension().string();
+  tmp.replace_filename(name);
   return tmp;
 }
 }  // namespace
