@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# The main job on a built-in default: installs what is missing, builds, generates
+# a preset feather, renders it, and says where everything went.
+#   scripts/demo.sh                  the Osprey wing covert preset
+#   PRESET=rock-dove-wing scripts/demo.sh
+#   scripts/demo.sh PHOTO            (photo-to-feather: not yet available)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+build=${BUILD_DIR:-build}
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build" -j "$(nproc)" --target plumage
+plumage="$build/plumage"
+out=${OUT_DIR:-out}
+mkdir -p "$out"
+
+if [ $# -ge 1 ]; then
+  if "$plumage" --help | grep -q photo-to-feather; then
+    "$plumage" photo-to-feather "$1" -o "$out"
+    echo "demo: wrote the photo-to-feather results to $out/"
+    exit 0
+  fi
+  echo "demo: photo-to-feather is not implemented yet (issue 6); running the preset instead" >&2
+fi
+
+preset=${PRESET:-osprey-wing-covert}
+"$plumage" generate --preset "$preset" --seed 1 -o "$out/feather.fcurves" --preview "$out/preview.png"
+"$plumage" info "$out/feather.fcurves"
+if "$plumage" --help | grep -q "render"; then
+  "$plumage" render "$out/feather.fcurves" --shading hair --lights all --spp ${SPP:-16} -o "$out/hair.png"
+  echo "demo: wrote $out/feather.fcurves, $out/preview.png and $out/hair.png"
+else
+  echo "demo: wrote $out/feather.fcurves and $out/preview.png"
+fi
