@@ -426,3 +426,17 @@ TEST(CurveFormat, FilesRoundTripAndNameThemselvesInErrors) {
   EXPECT_EQ(read_fcurves(dir / "f.fcurves"), f);
   fs::remove_all(dir);
 }
+
+TEST(CurveFormat, SpecExampleParses) {
+  // The first code block of docs/curve-format.md is a complete file.
+  const std::string doc = read_file(std::string(PLUMAGE_SOURCE_DIR) + "/docs/curve-format.md");
+  const std::size_t open = doc.find("```\n");
+  const std::size_t close = doc.find("```\n", open + 4);
+  ASSERT_NE(close, std::string::npos);
+  const Feather f = parse_fcurves(doc.substr(open + 4, close - open - 4), "curve-format.md");
+  EXPECT_EQ(f.curves.size(), 2u);
+  EXPECT_EQ(f.provenance.source, "preset:osprey-covert");
+  EXPECT_EQ(f.albedo.texture, "albedo.png");
+  EXPECT_EQ(f.right.elevation_deg, 42.5f);
+  EXPECT_EQ(parse_fcurves(format_fcurves(f)), f);
+}
