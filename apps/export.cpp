@@ -27,8 +27,7 @@ struct ExportArgs {
 };
 
 const Registration kExport{
-    "export",
-    "Write a .fcurves feather as pbrt-v4, pbrt-v3, Mitsuba 3 or Wavefront OBJ curves",
+    "export", "Write a .fcurves feather as pbrt-v4, pbrt-v3, Mitsuba 3 or Wavefront OBJ curves",
     [](CLI::App& sub) -> std::function<int()> {
       auto args = std::make_shared<ExportArgs>();
       sub.footer(
@@ -66,9 +65,10 @@ const Registration kExport{
         options.image_filename = out.stem().string() + ".exr";
         export_feather(out, feather, format, options);
         if (!global_options().quiet)
-          std::cout << "wrote " << out.string() << " (" << to_string(format) << "): "
-                    << feather.count(CurveKind::Shaft) << " shaft, " << feather.count(CurveKind::Barb)
-                    << " barbs, " << feather.num_control_points() << " control points\n";
+          std::cout << "wrote " << out.string() << " (" << to_string(format)
+                    << "): " << feather.count(CurveKind::Shaft) << " shaft, "
+                    << feather.count(CurveKind::Barb) << " barbs, " << feather.num_control_points()
+                    << " control points\n";
         return 0;
       };
     }};

@@ -1,6 +1,9 @@
 // Exporters: each output is read back by a small tokenizer written here from the
 // target format's rules (not from the exporter), and checked against the feather.
+#include "plumage/common/exporters.h"
+
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -11,13 +14,10 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
 #include "feather_samples.h"
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
-#include "plumage/common/exporters.h"
 
 using namespace plumage;
 
@@ -48,9 +48,20 @@ std::vector<PbrtStatement> parse_pbrt(const std::string& text) {
   std::vector<std::string> tokens;
   for (std::size_t i = 0; i < text.size();) {
     const char c = text[i];
-    if (std::isspace(static_cast<unsigned char>(c))) { ++i; continue; }
-    if (c == '#') { i = text.find('\n', i); if (i == std::string::npos) break; continue; }
-    if (c == '[' || c == ']') { tokens.emplace_back(1, c); ++i; continue; }
+    if (std::isspace(static_cast<unsigned char>(c))) {
+      ++i;
+      continue;
+    }
+    if (c == '#') {
+      i = text.find('\n', i);
+      if (i == std::string::npos) break;
+      continue;
+    }
+    if (c == '[' || c == ']') {
+      tokens.emplace_back(1, c);
+      ++i;
+      continue;
+    }
     if (c == '"') {
       const std::size_t close = text.find('"', i + 1);
       EXPECT_NE(close, std::string::npos) << "unterminated string";
@@ -110,9 +121,9 @@ std::vector<PbrtStatement> parse_pbrt(const std::string& text) {
 }
 
 void check_pbrt(const std::string& text, const Feather& f, bool v4) {
-  const std::set<std::string> known = {"Scale", "LookAt", "Camera", "Sampler", "Integrator", "Film",
-                                       "WorldBegin", "WorldEnd", "LightSource", "AttributeBegin",
-                                       "AttributeEnd", "Material", "Shape"};
+  const std::set<std::string> known = {
+      "Scale",    "LookAt",      "Camera",         "Sampler",      "Integrator", "Film", "WorldBegin",
+      "WorldEnd", "LightSource", "AttributeBegin", "AttributeEnd", "Material",   "Shape"};
   const auto statements = parse_pbrt(text);
   ASSERT_FALSE(statements.empty());
   int depth = 0;
@@ -276,7 +287,8 @@ void check_obj(const std::string& text, const Feather& f) {
       EXPECT_LE(u1, knots[curv_n]);
       EXPECT_LT(u0, u1);
       // Uniform knots: the curve is our uniform B-spline, not a clamped one.
-      for (std::size_t k = 1; k < knots.size(); ++k) EXPECT_DOUBLE_EQ(knots[k] - knots[k - 1], knots[1] - knots[0]);
+      for (std::size_t k = 1; k < knots.size(); ++k)
+        EXPECT_DOUBLE_EQ(knots[k] - knots[k - 1], knots[1] - knots[0]);
     } else if (key == "end") {
       ASSERT_TRUE(open);
       open = false;
@@ -334,15 +346,16 @@ TEST(Exporters, RandomFeathersExportToEveryFormat) {
 }
 
 TEST(Exporters, FormatNames) {
-  for (ExportFormat e : {ExportFormat::Fcurves, ExportFormat::Pbrt, ExportFormat::PbrtV3, ExportFormat::Mitsuba,
-                         ExportFormat::Obj})
+  for (ExportFormat e : {ExportFormat::Fcurves, ExportFormat::Pbrt, ExportFormat::PbrtV3,
+                         ExportFormat::Mitsuba, ExportFormat::Obj})
     EXPECT_EQ(parse_export_format(to_string(e)), e);
   EXPECT_EQ(parse_export_format("pbrt-v3"), ExportFormat::PbrtV3);
   try {
     parse_export_format("usd");
     ADD_FAILURE();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("fcurves, pbrt, pbrt-v3, mitsuba, obj"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("fcurves, pbrt, pbrt-v3, mitsuba, obj"), std::string::npos)
+        << e.what();
   }
 }
 
@@ -352,8 +365,8 @@ TEST(Exporters, InvalidFeatherWritesNothing) {
   fs::create_directories(dir);
   Feather bad = samples::sample_feather(2, 4);
   bad.curves[1].points[2].p.y = std::numeric_limits<float>::infinity();
-  for (ExportFormat e : {ExportFormat::Fcurves, ExportFormat::Pbrt, ExportFormat::PbrtV3, ExportFormat::Mitsuba,
-                         ExportFormat::Obj}) {
+  for (ExportFormat e : {ExportFormat::Fcurves, ExportFormat::Pbrt, ExportFormat::PbrtV3,
+                         ExportFormat::Mitsuba, ExportFormat::Obj}) {
     SCOPED_TRACE(to_string(e));
     const fs::path out = dir / (std::string("out") + default_extension(e));
     const std::string before = fs::exists(out) ? read_file(out) : "(none)";

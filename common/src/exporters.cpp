@@ -201,8 +201,12 @@ ExportFormat parse_export_format(std::string_view name) {
   throw Error("unknown export format '" + std::string(name) + "': use one of " + known);
 }
 
-std::string format_pbrt_v4(const Feather& f, const ExportOptions& o) { return format_pbrt(f, o, PbrtVersion::V4); }
-std::string format_pbrt_v3(const Feather& f, const ExportOptions& o) { return format_pbrt(f, o, PbrtVersion::V3); }
+std::string format_pbrt_v4(const Feather& f, const ExportOptions& o) {
+  return format_pbrt(f, o, PbrtVersion::V4);
+}
+std::string format_pbrt_v3(const Feather& f, const ExportOptions& o) {
+  return format_pbrt(f, o, PbrtVersion::V3);
+}
 
 std::string format_mitsuba_curves(const Feather& f) {
   validate_feather(f);
@@ -228,9 +232,10 @@ std::string format_obj(const Feather& f) {
   std::string out;
   out.reserve(512 + f.num_control_points() * 40);
   append_provenance_comment(out, f, "#");
-  out += "# Uniform cubic B-splines as OBJ free-form curves (knots 0, 1, 2, ...; the curve\n"
-         "# spans parameters [3, n] for n control points). OBJ has no radius or normal:\n"
-         "# they stay in the .fcurves file.\n";
+  out +=
+      "# Uniform cubic B-splines as OBJ free-form curves (knots 0, 1, 2, ...; the curve\n"
+      "# spans parameters [3, n] for n control points). OBJ has no radius or normal:\n"
+      "# they stay in the .fcurves file.\n";
   std::size_t next_vertex = 1;  // OBJ vertex indices are 1-based and global
   std::size_t barb = 0;
   for (const Curve& c : f.curves) {
@@ -268,11 +273,16 @@ std::string format_obj(const Feather& f) {
 
 std::string export_text(const Feather& f, ExportFormat format, const ExportOptions& o) {
   switch (format) {
-    case ExportFormat::Fcurves: return format_fcurves(f);
-    case ExportFormat::Pbrt: return format_pbrt_v4(f, o);
-    case ExportFormat::PbrtV3: return format_pbrt_v3(f, o);
-    case ExportFormat::Mitsuba: return format_mitsuba_curves(f);
-    case ExportFormat::Obj: return format_obj(f);
+    case ExportFormat::Fcurves:
+      return format_fcurves(f);
+    case ExportFormat::Pbrt:
+      return format_pbrt_v4(f, o);
+    case ExportFormat::PbrtV3:
+      return format_pbrt_v3(f, o);
+    case ExportFormat::Mitsuba:
+      return format_mitsuba_curves(f);
+    case ExportFormat::Obj:
+      return format_obj(f);
   }
   throw Error("unknown export format");
 }
