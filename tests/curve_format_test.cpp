@@ -373,7 +373,7 @@ TEST(CurveFormat, MutatedFilesNeverCrash) {
           m.insert(at, 1, alphabet[rng() % (sizeof alphabet - 1)]);
           break;
       }
-      if (m.empty()) m = "x";
+      if (m.empty()) m.push_back('x');
     }
     try {
       const Feather f = parse_fcurves(m, "mutant.fcurves");
