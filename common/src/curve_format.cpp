@@ -14,10 +14,17 @@
 #include "float_text.h"
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
+#include "plumage/common/stats.h"
 
 namespace plumage {
 
 namespace {
+
+StatCounter files_read("Curve files/Files read");
+StatCounter bytes_read("Curve files/Bytes parsed");
+StatCounter curves_read("Curve files/Curves read");
+StatCounter points_read("Curve files/Control points read");
+StatCounter bytes_written("Curve files/Bytes formatted");
 
 // ---------------------------------------------------------------- writing ---
 
@@ -637,6 +644,7 @@ std::string format_fcurves(const Feather& f) {
     }
   }
   out += "end\n";
+  bytes_written += static_cast<std::int64_t>(out.size());
   return out;
 }
 
@@ -645,7 +653,12 @@ void write_fcurves(const std::filesystem::path& path, const Feather& feather) {
 }
 
 Feather parse_fcurves(std::string_view text, const std::string& filename) {
-  return Reader(text, filename).parse();
+  Feather f = Reader(text, filename).parse();
+  ++files_read;
+  bytes_read += static_cast<std::int64_t>(text.size());
+  curves_read += static_cast<std::int64_t>(f.curves.size());
+  points_read += static_cast<std::int64_t>(f.num_control_points());
+  return f;
 }
 
 Feather read_fcurves(const std::filesystem::path& path) {
