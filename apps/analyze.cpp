@@ -57,6 +57,11 @@ const plumage::cli::Registration reg{
                     << " mm/px (" << plumage::to_string(L.scale.source) << ")";
           for (const auto& f : L.feathers) std::cerr << "; F" << f.id << " " << f.length_mm << " mm";
           std::cerr << " -> " << a->output << "\n";
+          if (plumage::cli::global_options().stats) {
+            std::cerr << "analyze: stage times:";
+            for (const auto& [stage, sec] : result.stage_seconds) std::cerr << " " << stage << " " << sec << " s;";
+            std::cerr << "\n";
+          }
         }
         return 0;
       };

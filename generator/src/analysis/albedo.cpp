@@ -54,36 +54,43 @@ AlbedoResult extract_albedo(const cv::Mat& bgr, const Component& f, const glm::d
   cv::polylines(shaft_mask, pl, false, cv::Scalar(255), th);
   shaft_mask &= mask;
   // Fill from the vane either side (normalised convolution over valid texels).
-  {
-    cv::Mat valid = (mask > 127) & ~shaft_mask, vf, tf, num, den;
+  const double sigma = std::max(1.0, 0.75 * th);
+  const cv::Rect strip = [&] {
+    const int m = int(std::ceil(3 * sigma)) + 1;
+    const cv::Rect r = cv::boundingRect(shaft_mask);
+    return cv::Rect(r.x - m, r.y - m, r.width + 2 * m, r.height + 2 * m) & cv::Rect(0, 0, W, H);
+  }();
+  if (strip.area() > 0) {
+    const cv::Mat sm = shaft_mask(strip);
+    cv::Mat t = tex(strip);
+    cv::Mat valid = (mask(strip) > 127) & ~sm, vf, tf, num, den;
     valid.convertTo(vf, CV_32F, 1.0 / 255.0);
-    tex.convertTo(tf, CV_32FC3);
+    t.convertTo(tf, CV_32FC3);
     std::vector<cv::Mat> ch;
     cv::split(tf, ch);
     for (auto& c : ch) c = c.mul(vf);
     cv::merge(ch, num);
-    const double sigma = std::max(1.0, 0.75 * th);
     cv::GaussianBlur(num, num, cv::Size(), sigma);
     cv::GaussianBlur(vf, den, cv::Size(), sigma);
-    for (int y = 0; y < H; ++y)
-      for (int x = 0; x < W; ++x)
-        if (shaft_mask.at<uchar>(y, x) && den.at<float>(y, x) > 1e-3f) {
+    for (int y = 0; y < t.rows; ++y)
+      for (int x = 0; x < t.cols; ++x)
+        if (sm.at<uchar>(y, x) && den.at<float>(y, x) > 1e-3f) {
           const cv::Vec3f v = num.at<cv::Vec3f>(y, x) / den.at<float>(y, x);
-          tex.at<cv::Vec3b>(y, x) = cv::Vec3b(cv::saturate_cast<uchar>(v[0]), cv::saturate_cast<uchar>(v[1]),
-                                              cv::saturate_cast<uchar>(v[2]));
+          t.at<cv::Vec3b>(y, x) = cv::Vec3b(cv::saturate_cast<uchar>(v[0]), cv::saturate_cast<uchar>(v[1]),
+                                            cv::saturate_cast<uchar>(v[2]));
         }
   }
 
+  float lut[256], inv_bg[3];
+  for (int i = 0; i < 256; ++i) lut[i] = srgb_to_linear(i / 255.0f);
+  for (int c = 0; c < 3; ++c)
+    inv_bg[c] = light_background ? 1.0f / std::max(srgb_to_linear(float(bg[2 - c]) / 255.0f), 1e-3f) : 1.0f;
   out.rgba.create(H, W, CV_32FC4);
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const cv::Vec3b p = tex.at<cv::Vec3b>(y, x);
       cv::Vec4f& q = out.rgba.at<cv::Vec4f>(y, x);
-      for (int c = 0; c < 3; ++c) {
-        float v = srgb_to_linear(p[2 - c] / 255.0f);  // BGR -> RGB
-        if (light_background) v /= std::max(srgb_to_linear(float(bg[2 - c]) / 255.0f), 1e-3f);
-        q[c] = std::clamp(v, 0.0f, 1.0f);
-      }
+      for (int c = 0; c < 3; ++c) q[c] = std::min(lut[p[2 - c]] * inv_bg[c], 1.0f);  // BGR -> RGB
       q[3] = mask.at<uchar>(y, x) / 255.0f;
     }
   return out;

@@ -3,6 +3,7 @@
 #include "plumage/generator/analysis/analyze.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -73,16 +74,38 @@ Image to_image_linear(const cv::Mat& bgr) {
 
 }  // namespace
 
+// Accumulates wall time per named stage.
+class StageClock {
+ public:
+  explicit StageClock(std::vector<std::pair<std::string, double>>& out) : out_(out) {}
+  void lap(const std::string& stage) {
+    const auto now = std::chrono::steady_clock::now();
+    const double s = std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+    for (auto& [name, t] : out_)
+      if (name == stage) return void(t += s);
+    out_.emplace_back(stage, s);
+  }
+
+ private:
+  std::vector<std::pair<std::string, double>>& out_;
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
 PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& opt) {
   const Location where{photo_path.string()};
+  PhotoAnalysis out;
+  StageClock clock(out.stage_seconds);
   if (opt.mm_per_px && !(*opt.mm_per_px > 0 && std::isfinite(*opt.mm_per_px)))
     throw Error("--mm-per-px must be a positive number of millimetres per pixel");
   if (!(opt.grid_mm > 0)) throw Error("--grid-mm must be positive");
   if (opt.stations < 2 || opt.stations > 1000) throw Error("stations must be in 2..1000");
   Photo photo = load_photo(photo_path, opt.max_megapixels, opt.refuse_megapixels);
   const double ds = photo.downscale;
+  clock.lap("load");
 
   const Segmentation seg = segment_feathers(photo.bgr);
+  clock.lap("segment");
   if (seg.feathers.empty()) {
     std::ostringstream m;
     m << "no feather found (background " << (seg.dark_background ? "dark" : "light")
@@ -95,7 +118,6 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
     throw Error(where, "--feather " + std::to_string(*opt.feather) + ": the photo has " +
                            std::to_string(count) + " feather(s); pick 1.." + std::to_string(count));
 
-  PhotoAnalysis out;
   Layout& L = out.layout;
   L.source_image = photo_path.string();
   L.image_width = photo.full_width;
@@ -122,6 +144,7 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
     }
   }
   const double mm_per_work_px = L.scale.mm_per_px / ds;
+  clock.lap("scale");
 
   std::vector<OverlayFeather> drawn;
   for (int k = 1; k <= count; ++k) {
@@ -139,6 +162,7 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
     std::vector<glm::dvec2> pts;
     for (const auto& p : shaft.path) pts.push_back({p.x, p.y});
     const BSpline2 shaft_px = fit_spline(pts, 8);
+    clock.lap("shaft");
     const glm::dvec2 cal = shaft_px.eval(0.0) / ds, tip = shaft_px.eval(1.0) / ds;
 
     FeatherLayout f;
@@ -163,6 +187,7 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
     f.stations_t = vm.t;
     f.left = to_profile(vm.left, mm_per_work_px);
     f.right = to_profile(vm.right, mm_per_work_px);
+    clock.lap("vanes");
     f.touches_border = comp.touches_border;
     if (comp.touches_border) f.warnings.push_back("touches the image border; the vane may be cut off");
     if (L.scale.source == ScaleSource::Default) f.warnings.push_back("scale unknown (default used)");
@@ -177,6 +202,7 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
     Image tex(al.rgba.cols, al.rgba.rows, 4);
     std::memcpy(tex.pixels.data(), al.rgba.ptr<float>(0), tex.pixels.size() * sizeof(float));
     out.albedo.push_back(std::move(tex));
+    clock.lap("albedo");
     Image mask(comp.mask.cols, comp.mask.rows, 1);
     for (int y = 0; y < comp.mask.rows; ++y)
       for (int x = 0; x < comp.mask.cols; ++x) mask.at(x, y)[0] = comp.mask.at<uchar>(y, x) / 255.0f;
@@ -187,6 +213,7 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
     L.feathers.push_back(std::move(f));
   }
   out.overlay = to_image_linear(draw_overlay(photo.bgr, drawn, mm_per_work_px, L.scale, grid, seg.foreground));
+  clock.lap("overlay");
   return out;
 }
 

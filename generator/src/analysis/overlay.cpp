@@ -18,27 +18,37 @@ void label(cv::Mat& img, const std::string& text, cv::Point at, double scale, co
   cv::putText(img, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, th, cv::LINE_AA);
 }
 
-cv::Point px(const glm::dvec2& p) { return {int(std::lround(p.x)), int(std::lround(p.y))}; }
+// The overlay is at most this many pixels wide or tall: enough to check by eye.
+constexpr int kMaxSide = 2048;
 
 }  // namespace
 
 cv::Mat draw_overlay(const cv::Mat& bgr, const std::vector<OverlayFeather>& feathers,
                      double mm_per_px, const LayoutScale& scale, const GridScale& grid,
                      const cv::Mat& busy) {
-  cv::Mat img = bgr.clone();
+  cv::Mat img;
+  const double g_k = std::min(1.0, double(kMaxSide) / std::max(bgr.cols, bgr.rows));
+  const auto px = [g_k](const glm::dvec2& p) {  // working pixels to overlay pixels
+    return cv::Point(int(std::lround(g_k * p.x)), int(std::lround(g_k * p.y)));
+  };
+  if (g_k < 1.0) cv::resize(bgr, img, cv::Size(), g_k, g_k, cv::INTER_AREA);
+  else img = bgr.clone();
+  mm_per_px /= g_k;
   const double dim = std::max(img.cols, img.rows);
   const int th = std::max(1, int(std::lround(dim / 900)));
   const double font = std::max(0.4, dim / 2000);
   const cv::Scalar green(60, 220, 60), red(40, 40, 255), yellow(0, 230, 255), cyan(255, 230, 0),
       blue(255, 120, 0), white(255, 255, 255);
   for (const OverlayFeather& f : feathers) {
-    cv::polylines(img, f.contour, true, f.touches_border ? red : green, th, cv::LINE_AA);
+    std::vector<cv::Point> outline;
+    for (const cv::Point& p : f.contour) outline.push_back(px(glm::dvec2(p.x, p.y)));
+    cv::polylines(img, outline, true, f.touches_border ? red : green, th, cv::LINE_AA);
     std::vector<cv::Point> sh;
     for (int i = 0; i <= 100; ++i) sh.push_back(px(f.shaft_px.eval(i / 100.0)));
     cv::polylines(img, sh, false, red, th + 1, cv::LINE_AA);
     cv::circle(img, sh.front(), 3 * th + 2, blue, cv::FILLED, cv::LINE_AA);
     const glm::dvec2 tip = f.shaft_px.eval(1.0), dir = glm::normalize(f.shaft_px.deriv(1.0));
-    cv::arrowedLine(img, px(tip - dir * (12.0 * th)), px(tip + dir * (4.0 * th)), red, th + 1, cv::LINE_AA, 0, 0.5);
+    cv::arrowedLine(img, px(tip - dir * (12.0 * th / g_k)), px(tip + dir * (4.0 * th / g_k)), red, th + 1, cv::LINE_AA, 0, 0.5);
     // Barb directions at the middle of each side's vane.
     for (std::size_t k = 0; k < f.vanes.t.size(); ++k) {
       const double t = f.vanes.t[k];
@@ -58,7 +68,7 @@ cv::Mat draw_overlay(const cv::Mat& bgr, const std::vector<OverlayFeather>& feat
     }
     std::ostringstream s;
     s << "F" << f.id << " " << std::lround(f.length_mm) << "mm";
-    cv::Point at = px(tip + dir * (10.0 * th)) + cv::Point(-20 * th, -4 * th);
+    cv::Point at = px(tip + dir * (10.0 * th / g_k)) + cv::Point(-20 * th, -4 * th);
     int base = 0;
     const cv::Size ts = cv::getTextSize(s.str(), cv::FONT_HERSHEY_SIMPLEX, font, th, &base);
     at.x = std::clamp(at.x, 2, std::max(2, img.cols - ts.width - 2));
@@ -78,7 +88,8 @@ cv::Mat draw_overlay(const cv::Mat& bgr, const std::vector<OverlayFeather>& feat
   for (int cy : {0, 1})
     for (int cx : {0, 1}) {
       const cv::Rect r(cx ? img.cols - box.width : 0, cy ? img.rows - box.height : 0, box.width, box.height);
-      const double m = busy.empty() ? 0.0 : cv::mean(busy(r))[0];
+      const cv::Rect rb(int(r.x / g_k), int(r.y / g_k), int(r.width / g_k), int(r.height / g_k));
+      const double m = busy.empty() ? 0.0 : cv::mean(busy(rb & cv::Rect(0, 0, busy.cols, busy.rows)))[0];
       if (m < least - 1e-9) least = m, p0 = cv::Point(r.x + 10 * th, r.y + r.height - 6 * th);
     }
   cv::rectangle(img, p0 + cv::Point(-4, -4 * th - 4), p0 + cv::Point(bar_px + 4, 4), cv::Scalar(0, 0, 0), cv::FILLED);

@@ -99,8 +99,14 @@ void spacing(const Unrolled& U, int j0, int j1, int side, double w, double shaft
     }
     for (int k = 0; k < nf; ++k) {
       const double fr = 1.0 / pmax + (1.0 / pmin - 1.0 / pmax) * k / (nf - 1);
-      double re = 0, im = 0;
-      for (int j = 0; j < len; ++j) re += y[j] * std::cos(2 * kPi * fr * j), im += y[j] * std::sin(2 * kPi * fr * j);
+      // The DFT phasor advanced by one rotation per sample (no trig per sample).
+      const double cr = std::cos(2 * kPi * fr), ci = std::sin(2 * kPi * fr);
+      double re = 0, im = 0, pr = 1, pi = 0;
+      for (int j = 0; j < len; ++j) {
+        re += y[j] * pr, im += y[j] * pi;
+        const double nr = pr * cr - pi * ci;
+        pi = pr * ci + pi * cr, pr = nr;
+      }
       power[k] += re * re + im * im;
     }
     ++used;
@@ -126,7 +132,21 @@ void spacing(const Unrolled& U, int j0, int j1, int side, double w, double shaft
 
 VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2& shaft,
                           double shaft_width_px, int stations) {
-  const int R = int(std::ceil(std::hypot(f.bbox.width, f.bbox.height))) / 2 + 4;
+  // Unroll only as far out as the outline reaches from the shaft.
+  std::vector<glm::dvec2> axis;
+  for (int i = 0; i <= 128; ++i) axis.push_back(shaft.eval(i / 128.0));
+  double reach = 0;
+  for (std::size_t k = 0; k < f.contour.size(); k += 2) {
+    const glm::dvec2 p(f.contour[k].x, f.contour[k].y);
+    double best = 1e300;
+    for (std::size_t i = 0; i + 1 < axis.size(); ++i) {
+      const glm::dvec2 ab = axis[i + 1] - axis[i];
+      const double t = std::clamp(glm::dot(p - axis[i], ab) / std::max(glm::dot(ab, ab), 1e-12), 0.0, 1.0);
+      best = std::min(best, glm::length(p - (axis[i] + t * ab)));
+    }
+    reach = std::max(reach, best);
+  }
+  const int R = int(std::ceil(reach)) + 4;
   const Unrolled U = unroll(bgr, f, shaft, std::min(R, 4096));
   const int L = U.gray.rows;
 

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "plumage/common/image.h"
@@ -29,6 +30,7 @@ struct PhotoAnalysis {
   std::vector<Image> masks;          // per reported feather: 1 channel, working resolution
   Image overlay;                     // linear RGB, working resolution
   std::vector<std::string> warnings; // also stored per feather in the layout
+  std::vector<std::pair<std::string, double>> stage_seconds;  // wall time per stage
 };
 
 // Throws plumage::Error naming the photo for unreadable input, no feather found,
