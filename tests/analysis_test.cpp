@@ -343,36 +343,59 @@ void write_binary(const fs::path& p, const std::string& bytes) {
 
 }  // namespace
 
-TEST(AnalysisBadInput, NotAnImageEmptyAndUniform) {
-  const fs::path dir = temp_dir("bad1");
+// Each case runs the CLI once or twice: process start-up dominates on a busy machine.
+TEST(AnalysisBadInput, NotAnImage) {
+  const fs::path dir = temp_dir("bad_text");
   write_binary(dir / "notes.png", "this is not a picture\n");
   expect_rejected(dir, dir / "notes.png", "not an image");
+}
+
+TEST(AnalysisBadInput, EmptyFile) {
+  const fs::path dir = temp_dir("bad_empty");
   write_binary(dir / "empty.jpg", "");
   expect_rejected(dir, dir / "empty.jpg", "empty file");
+}
+
+TEST(AnalysisBadInput, UniformImageHasNoFeather) {
+  const fs::path dir = temp_dir("bad_uniform");
   write_image(dir / "grey.png", Image(320, 240, 3, 0.4f));
   expect_rejected(dir, dir / "grey.png", "no feather found");
+}
+
+TEST(AnalysisBadInput, MissingFile) {
+  const fs::path dir = temp_dir("bad_missing");
   expect_rejected(dir, dir / "missing.png", "no such file");
 }
 
-TEST(AnalysisBadInput, FeatherTouchingTheBorderIsAnErrorUnlessAllowed) {
-  const fs::path dir = temp_dir("bad2");
+TEST(AnalysisBadInput, FeatherTouchingTheBorderIsAnError) {
+  const fs::path dir = temp_dir("bad_border");
   SyntheticFeather F;
   F.calamus = {250, 760};  // calamus below the bottom edge
   write_image(dir / "cut.png", F.draw());
   expect_rejected(dir, dir / "cut.png", "touches the image border");
+}
+
+TEST(AnalysisBadInput, FeatherTouchingTheBorderIsAllowedOnRequest) {
+  const fs::path dir = temp_dir("bad_border_ok");
+  SyntheticFeather F;
+  F.calamus = {250, 760};
+  write_image(dir / "cut.png", F.draw());
   const CliRun ok = cli(dir, "analyze \"" + (dir / "cut.png").string() + "\" -o \"" + (dir / "out.json").string() +
                                  "\" --allow-border");
   EXPECT_EQ(ok.rc, 0) << ok.err;
   EXPECT_TRUE(read_layout(dir / "out.json").feathers.at(0).touches_border);
 }
 
-TEST(AnalysisBadInput, HugeImageIsGuardedOrDownscaled) {
-  const fs::path dir = temp_dir("bad3");
-  // A PNG header claiming 100000 x 100000 pixels: refused before decoding.
+TEST(AnalysisBadInput, HugeImageIsRefusedBeforeDecoding) {
+  const fs::path dir = temp_dir("bad_huge");
+  // A PNG header claiming 100000 x 100000 pixels.
   std::string png("\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR\0\x01\x86\xa0\0\x01\x86\xa0\x08\x02\0\0\0\0\0\0\0", 33);
   write_binary(dir / "huge.png", png);
   expect_rejected(dir, dir / "huge.png", "memory guard");
+}
 
+TEST(AnalysisBadInput, LargeImageIsAnalysedDownscaled) {
+  const fs::path dir = temp_dir("bad_large");
   SyntheticFeather F;
   write_image(dir / "big.png", F.draw());
   const CliRun r = cli(dir, "analyze \"" + (dir / "big.png").string() + "\" -o \"" + (dir / "out.json").string() +
@@ -384,33 +407,36 @@ TEST(AnalysisBadInput, HugeImageIsGuardedOrDownscaled) {
   EXPECT_NEAR(L.feathers.at(0).length_mm, 0.1 * F.length, 0.03 * 0.1 * F.length);
 }
 
-TEST(AnalysisBadInput, GreyAlphaAnd16BitPhotosAreRead) {
-  const fs::path dir = temp_dir("bad4");
+class AnalysisPhotoFormats : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(AnalysisPhotoFormats, GreyAlphaAnd16BitPhotosAreRead) {
+  const std::string name = GetParam();
+  const fs::path dir = temp_dir("format_" + name.substr(0, name.find('.')));
   SyntheticFeather F;
   F.width = 600, F.height = 500, F.calamus = {200, 470}, F.length = 420, F.dir_deg = -75;
-  write_image(dir / "grey.png", F.draw(1));
-  write_image(dir / "alpha.png", F.draw(4));
-  // 16-bit binary PPM (maxval 65535, big-endian samples).
-  const Image rgb = F.draw(3);
-  std::string ppm = "P6\n" + std::to_string(F.width) + " " + std::to_string(F.height) + "\n65535\n";
-  for (float v : rgb.pixels) {
-    const int s = int(std::lround(std::clamp(linear_to_srgb(v), 0.f, 1.f) * 65535));
-    ppm += char(s >> 8), ppm += char(s & 255);
+  if (name == "grey.png") write_image(dir / name, F.draw(1));
+  if (name == "alpha.png") write_image(dir / name, F.draw(4));
+  if (name == "deep.ppm") {  // 16-bit binary PPM (maxval 65535, big-endian samples)
+    const Image rgb = F.draw(3);
+    std::string ppm = "P6\n" + std::to_string(F.width) + " " + std::to_string(F.height) + "\n65535\n";
+    for (float v : rgb.pixels) {
+      const int s = int(std::lround(std::clamp(linear_to_srgb(v), 0.f, 1.f) * 65535));
+      ppm += char(s >> 8), ppm += char(s & 255);
+    }
+    write_binary(dir / name, ppm);
   }
-  write_binary(dir / "deep.ppm", ppm);
-  for (const char* name : {"grey.png", "alpha.png", "deep.ppm"}) {
-    const fs::path out = dir / (std::string(name) + ".json");
-    const CliRun r = cli(dir, std::string("analyze \"") + (dir / name).string() + "\" -o \"" + out.string() +
-                                  "\" --mm-per-px 0.1");
-    ASSERT_EQ(r.rc, 0) << name << ": " << r.err;
-    const Layout L = read_layout(out);
-    ASSERT_EQ(L.feathers.size(), 1u) << name;
-    EXPECT_NEAR(L.feathers[0].length_mm, 0.1 * F.length, 0.02 * 0.1 * F.length) << name;
-  }
+  const fs::path out = dir / "out.json";
+  const CliRun r = cli(dir, "analyze \"" + (dir / name).string() + "\" -o \"" + out.string() + "\" --mm-per-px 0.1");
+  ASSERT_EQ(r.rc, 0) << name << ": " << r.err;
+  const Layout L = read_layout(out);
+  ASSERT_EQ(L.feathers.size(), 1u) << name;
+  EXPECT_NEAR(L.feathers[0].length_mm, 0.1 * F.length, 0.02 * 0.1 * F.length) << name;
 }
 
-TEST(AnalysisBadInput, BadOptionsAndUnwritableOutputLeaveOldFilesAlone) {
-  const fs::path dir = temp_dir("bad5");
+INSTANTIATE_TEST_SUITE_P(Formats, AnalysisPhotoFormats, ::testing::Values("grey.png", "alpha.png", "deep.ppm"));
+
+TEST(AnalysisBadInput, BadOptionsLeaveOldFilesAlone) {
+  const fs::path dir = temp_dir("bad_options");
   SyntheticFeather F;
   F.width = 500, F.height = 420, F.calamus = {200, 400}, F.length = 330, F.dir_deg = -80;
   write_image(dir / "f.png", F.draw());
@@ -423,8 +449,20 @@ TEST(AnalysisBadInput, BadOptionsAndUnwritableOutputLeaveOldFilesAlone) {
   r = cli(dir, "analyze \"" + (dir / "f.png").string() + "\" -o \"" + (dir / "out.json").string() +
                    "\" --mm-per-px -3");
   EXPECT_NE(r.rc, 0);
-  r = cli(dir, "analyze \"" + (dir / "f.png").string() + "\" -o \"" + (dir / "out.json").string() +
-                   "\" --overlay \"" + (dir / "no-such-dir" / "ov.png").string() + "\"");
+  EXPECT_EQ(files_in(dir), before);
+  EXPECT_EQ(read_file(dir / "out.json"), "old");
+}
+
+TEST(AnalysisBadInput, UnwritableOutputLeavesNothingBehind) {
+  const fs::path dir = temp_dir("bad_unwritable");
+  SyntheticFeather F;
+  F.width = 500, F.height = 420, F.calamus = {200, 400}, F.length = 330, F.dir_deg = -80;
+  write_image(dir / "f.png", F.draw());
+  write_file_atomic(dir / "out.json", "old");
+  const auto before = files_in(dir);
+  // The overlay cannot be written, so neither the layout nor the albedo may appear.
+  const CliRun r = cli(dir, "analyze \"" + (dir / "f.png").string() + "\" -o \"" + (dir / "out.json").string() +
+                                "\" --overlay \"" + (dir / "no-such-dir" / "ov.png").string() + "\"");
   EXPECT_NE(r.rc, 0);
   EXPECT_EQ(files_in(dir), before);
   EXPECT_EQ(read_file(dir / "out.json"), "old");
