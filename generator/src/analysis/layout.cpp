@@ -1,7 +1,9 @@
 // layout.json reader and writer (format: docs/layout-format.md).
 #include "plumage/generator/analysis/layout.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "plumage/common/atomic_file.h"
@@ -14,14 +16,64 @@ using json = nlohmann::json;
 constexpr const char* kFormat = "plumage-layout";
 constexpr int kVersion = 1;
 
-json vec2(const glm::dvec2& p) { return json::array({p.x, p.y}); }
+using ojson = nlohmann::ordered_json;
 
-json affine(const glm::dmat3x2& A) {
-  return json::array({json::array({A[0][0], A[1][0], A[2][0]}),
-                      json::array({A[0][1], A[1][1], A[2][1]})});
+ojson vec2(const glm::dvec2& p) { return ojson::array({p.x, p.y}); }
+
+ojson affine(const glm::dmat3x2& A) {
+  return ojson::array({ojson::array({A[0][0], A[1][0], A[2][0]}),
+                       ojson::array({A[0][1], A[1][1], A[2][1]})});
 }
 
-json profile(const VaneProfile& v) {
+// Pretty-printed with the keys in a reading order, and arrays of numbers (or of
+// points) kept on one line so a person can scan the file.
+bool is_flat(const ojson& j) {
+  if (!j.is_array()) return false;
+  for (const auto& e : j)
+    if (!e.is_primitive() && !(e.is_array() && std::all_of(e.begin(), e.end(), [](const ojson& x) {
+          return x.is_primitive();
+        })))
+      return false;
+  return true;
+}
+
+void dump(const ojson& j, int indent, std::string& out) {
+  const std::string pad(indent + 2, ' ');
+  if (j.is_object() && !j.empty()) {
+    out += "{\n";
+    std::size_t i = 0;
+    for (auto it = j.begin(); it != j.end(); ++it, ++i) {
+      out += pad + ojson(it.key()).dump() + ": ";
+      dump(it.value(), indent + 2, out);
+      out += i + 1 < j.size() ? ",\n" : "\n";
+    }
+    out += std::string(indent, ' ') + "}";
+  } else if (j.is_array() && !j.empty() && !is_flat(j)) {
+    out += "[\n";
+    for (std::size_t i = 0; i < j.size(); ++i) {
+      out += pad;
+      dump(j[i], indent + 2, out);
+      out += i + 1 < j.size() ? ",\n" : "\n";
+    }
+    out += std::string(indent, ' ') + "]";
+  } else if (j.is_array()) {
+    out += "[";
+    for (std::size_t i = 0; i < j.size(); ++i) {
+      if (i) out += ", ";
+      dump(j[i], indent, out);
+    }
+    out += "]";
+  } else if (j.is_number_float()) {
+    // Seven significant digits: 0.1 um on a 1 m feather, and stable on re-reading.
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.7g", j.get<double>());
+    out += buf;
+  } else {
+    out += j.dump();
+  }
+}
+
+ojson profile(const VaneProfile& v) {
   return {{"width_mm", v.width_mm},
           {"width_confidence", v.width_confidence},
           {"barb_angle_deg", v.barb_angle_deg},
@@ -186,14 +238,14 @@ const char* to_string(ScaleSource s) {
 }
 
 std::string layout_to_json(const Layout& L) {
-  json feathers = json::array();
+  ojson feathers = ojson::array();
   for (const FeatherLayout& f : L.feathers) {
-    json outline = json::array();
+    ojson outline = ojson::array();
     for (const auto& p : f.outline_px) outline.push_back(vec2(p));
-    json cps = json::array();
+    ojson cps = ojson::array();
     for (const auto& p : f.shaft_mm.control_points()) cps.push_back(vec2(p));
-    feathers.push_back(
-        {{"id", f.id},
+    feathers.push_back(ojson{
+        {"id", f.id},
          {"bbox_px", f.bbox_px},
          {"outline_px", outline},
          {"transform", {{"feather_from_image", affine(f.feather_from_image)},
@@ -208,7 +260,7 @@ std::string layout_to_json(const Layout& L) {
          {"touches_border", f.touches_border},
          {"warnings", f.warnings}});
   }
-  const json doc = {
+  const ojson doc = {
       {"format", kFormat},
       {"version", kVersion},
       {"image", {{"file", L.source_image}, {"width_px", L.image_width}, {"height_px", L.image_height},
@@ -217,7 +269,9 @@ std::string layout_to_json(const Layout& L) {
                  {"confidence", L.scale.confidence}, {"grid_period_px", L.scale.grid_period_px},
                  {"grid_mm", L.scale.grid_mm}}},
       {"feathers", feathers}};
-  return doc.dump(1) + "\n";
+  std::string out;
+  dump(doc, 0, out);
+  return out + "\n";
 }
 
 Layout parse_layout(const std::string& text, const std::string& source) {
