@@ -18,9 +18,14 @@ fs::path temp_name_for(const fs::path& path) {
   static std::atomic<unsigned> counter{0};
   fs::path tmp = path;
   // ".name.tmp-PID-N.ext": hidden, unique per process and call, same extension.
-  std::string stem = "." + path.stem().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
-                     std::to_string(counter++);
-  tmp.replace_filename(stem + path.extension().string());
+  std::string name = ".";
+  name += path.stem().string();
+  name += ".tmp-";
+  name += std::to_string(::getpid());
+  name += '-';
+  name += std::to_string(counter++);
+  name += path.extension().string();
+  tmp.replace_filename(name);
   return tmp;
 }
 }  // namespace

@@ -23,21 +23,20 @@ Frame frame_from_normal(const glm::vec3& n_in) {
 }
 
 Frame frame_from_tangent_normal(const glm::vec3& tangent, const glm::vec3& normal_hint) {
-  const glm::vec3 t = safe_normalize(tangent, glm::vec3(1, 0, 0));
-  glm::vec3 n = normal_hint - glm::dot(normal_hint, t) * t;
-  const float len = glm::length(n);
-  const float hint_len = glm::length(normal_hint);
-  if (!(len > 1e-4f * std::fmax(hint_len, 1e-20f)) || !std::isfinite(len)) {
-    // Hint useless: any normal orthogonal to t.
-    const Frame g = frame_from_normal(t);
-    n = g.t;
-  } else {
-    n /= len;
-  }
   Frame f;
-  f.t = t;
-  f.n = n;
-  f.b = glm::cross(n, t);
+  f.t = safe_normalize(tangent, glm::vec3(1, 0, 0));
+  // Gram-Schmidt in double: a hint at a grazing angle to the tangent loses about
+  // -log10(angle) digits to cancellation, which float cannot spare. The float
+  // tangent is renormalised in double, since its own rounding (|t|^2 - 1 ~ 1e-7)
+  // would otherwise leak into n at the same amplification.
+  const glm::dvec3 t = glm::normalize(glm::dvec3(f.t));
+  const glm::dvec3 h(safe_normalize(normal_hint, glm::vec3(0)));
+  const glm::dvec3 n = h - glm::dot(h, t) * t;
+  const double len = glm::length(n);
+  // Below ~1e-4 rad the hint no longer says which way is up (and a zero, NaN or
+  // infinite hint says nothing): any normal orthogonal to t will do.
+  f.n = len > 1e-4 ? glm::vec3(n / len) : frame_from_normal(f.t).t;
+  f.b = glm::cross(f.n, f.t);
   return f;
 }
 

@@ -55,6 +55,9 @@ void write_image(const fs::path& path, const Image& img) {
     if (!out) throw Error(Location{path.string()}, "no image writer for extension '" + ext + "': " + OIIO::geterror());
     OIIO::ImageSpec spec(img.width, img.height, img.channels, is_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
     if (ext == ".exr") spec.attribute("compression", "zip");
+    // Pixels go to the file as given: without this OIIO divides colour by alpha
+    // for PNG, and does so after our sRGB encoding.
+    spec.attribute("oiio:UnassociatedAlpha", 1);
     if (!out->open(tmp.string(), spec)) throw Error(Location{path.string()}, "cannot open for writing: " + out->geterror());
     bool ok;
     if (is_float) {
@@ -77,7 +80,10 @@ Image read_image(const fs::path& path, bool linearize) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw Error(Location{path.string()}, "no such file");
   if (fs::is_directory(path, ec)) throw Error(Location{path.string()}, "is a directory, expected an image");
-  auto in = OIIO::ImageInput::open(path.string());
+  // Alpha comes back as stored (see write_image): no premultiplication on read.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(path.string(), &config);
   if (!in) {
     std::string why = OIIO::geterror();
     throw Error(Location{path.string()}, "cannot read as an image" + (why.empty() ? std::string() : ": " + why));

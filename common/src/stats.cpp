@@ -1,6 +1,6 @@
 #include "plumage/common/stats.h"
-#include <cmath>
 
+#include <cmath>
 #include <cstdio>
 #include <mutex>
 #include <vector>
@@ -22,6 +22,14 @@ StatCounter::StatCounter(const char* name) : name_(name) {
   Registry& r = registry();
   std::lock_guard lock(r.mu);
   r.counters.push_back(this);
+}
+
+// Counters are usually static, but a counter with a shorter life (a test's, a
+// plugin's) must not leave a dangling pointer behind.
+StatCounter::~StatCounter() {
+  Registry& r = registry();
+  std::lock_guard lock(r.mu);
+  std::erase(r.counters, this);
 }
 
 void stats_set_value(const std::string& name, double value) {

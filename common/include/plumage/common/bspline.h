@@ -55,7 +55,8 @@ class CubicBSpline {
   bool valid() const { return cp_.size() >= 4; }
   std::size_t num_segments() const { return cp_.size() >= 4 ? cp_.size() - 3 : 0; }
 
-  // Global t in [0,1] (clamped) -> segment index and local u in [0,1].
+  // Global t in [0,1] (clamped; NaN reads as 0) -> segment index and local u in
+  // [0,1]. locate/eval/deriv/deriv2/bezier_segment need valid().
   void locate(double t, std::size_t& seg, double& u) const {
     const double n = static_cast<double>(num_segments());
     const double x = std::fmin(std::fmax(t, 0.0), 1.0) * n;
@@ -114,34 +115,47 @@ using BSpline1 = CubicBSpline<double>;
 // ---------------------------------------------------------------------------
 // Geometry of 3D curves (bspline.cpp).
 
+// The functions below need a valid curve (>= 4 control points) and throw
+// plumage::Error otherwise.
+
 // Tight axis-aligned bounds: endpoints plus the extrema where a coordinate's
 // derivative vanishes inside a segment.
 Bounds3 tight_bounds(const BSpline3& c);
 
-// Arc length between global parameters t0 <= t1 (Gauss-Legendre per segment,
-// adaptive to a relative tolerance of about 1e-9).
+// Arc length between global parameters t0 and t1 (clamped to [0,1]; negative when
+// t1 < t0). Gauss-Legendre per segment, adaptive to a relative tolerance of about 1e-9.
 double arc_length(const BSpline3& c, double t0 = 0.0, double t1 = 1.0);
 
 // Arc-length reparameterisation: a table built once, then t(s) for s in [0, L].
+// The table keeps its own copy of the curve, so it stays valid after the curve
+// it was built from changes or goes away.
 class ArcLengthTable {
  public:
   explicit ArcLengthTable(const BSpline3& c, int samples_per_segment = 32);
   double length() const { return s_.empty() ? 0.0 : s_.back(); }
   // Global parameter t at arc length s (clamped to [0, length]); refined with
-  // Newton steps so |arc_length(0,t) - s| < 1e-9 * length.
+  // Newton steps so |arc_length(0,t) - s| < 1e-9 * length. A curve of zero
+  // length gives t = 0.
   double t_at(double s) const;
-  // Arc length from t=0 to t.
+  // Arc length from t=0 to t (t clamped to [0,1]).
   double s_at(double t) const;
+  const BSpline3& curve() const { return curve_; }
 
  private:
-  const BSpline3* curve_;
+  double length_within(std::size_t interval, double t) const;
+  BSpline3 curve_;
+  int samples_per_segment_;
   std::vector<double> t_, s_;
 };
 
 // Least-squares fit of a uniform cubic B-spline with `num_control_points` (>= 4)
 // control points through `points`, at parameters `params` in [0,1] (chord-length
 // parameters when `params` is empty). With `clamp_ends`, the curve passes exactly
-// through the first and last point. Throws plumage::Error on too few points.
+// through the first and last point. Throws plumage::Error on fewer points than
+// control points, fewer than 4 control points, non-finite points or parameters,
+// parameters outside [0,1], or `params` of the wrong size. Points that leave some
+// control points undetermined (duplicates, clustered parameters) still give a
+// finite curve: those control points follow their neighbours smoothly.
 BSpline3 fit_bspline(std::span<const glm::dvec3> points, int num_control_points,
                      std::span<const double> params = {}, bool clamp_ends = true);
 
@@ -149,6 +163,7 @@ BSpline3 fit_bspline(std::span<const glm::dvec3> points, int num_control_points,
 // and ends exactly at `points.back()` and passes near the interior points: the
 // interior points are taken as control points and a phantom point is added at each
 // end (P_-1 = 2 P_0 - P_1), which makes the curve interpolate the end points.
+// Needs at least 2 points (4 for the result to be a valid curve).
 template <class T>
 std::vector<T> with_phantom_ends(const std::vector<T>& points) {
   std::vector<T> cp;

@@ -13,6 +13,11 @@ namespace plumage {
 
 inline constexpr int kFcurvesVersion = 1;
 
+// Throws plumage::Error when the feather breaks a rule of the format (units not
+// mm, fewer than 4 control points, NaN, negative radius, non-unit normal, a barb
+// without a side, ...; docs/curve-format.md): what the reader would reject.
+void validate_feather(const Feather& feather);
+
 // Serialises a feather (floats in shortest round-trip form).
 std::string format_fcurves(const Feather& feather);
 // Writes atomically.

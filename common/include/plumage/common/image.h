@@ -31,6 +31,9 @@ float linear_to_srgb(float v);
 // transfer curve applied to colour channels (alpha stays linear), clamped to [0,1].
 void write_image(const std::filesystem::path& path, const Image& img);
 
+// Neither function premultiplies or un-premultiplies alpha: what is written is
+// what is read back (PNG stores straight alpha, so pass straight alpha for PNG).
+
 // Reads any format OIIO knows. 8/16-bit integer files are taken to be sRGB and
 // converted to linear unless `linearize` is false; float files are returned as is.
 // Throws plumage::Error naming the file and the problem.

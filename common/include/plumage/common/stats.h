@@ -14,6 +14,9 @@ namespace plumage {
 class StatCounter {
  public:
   explicit StatCounter(const char* name);  // registers itself; `name` must outlive it
+  ~StatCounter();                          // unregisters itself
+  StatCounter(const StatCounter&) = delete;
+  StatCounter& operator=(const StatCounter&) = delete;
   StatCounter& operator+=(std::int64_t n) { v_.fetch_add(n, std::memory_order_relaxed); return *this; }
   StatCounter& operator++() { return *this += 1; }
   std::int64_t value() const { return v_.load(std::memory_order_relaxed); }

@@ -6,9 +6,15 @@
 // Local frame (the fibre frame): +x along the fibre tangent; y and z span the
 // normal plane. h in [-1,1] is the offset of the hit across the fibre, measured
 // along +y, in units of the fibre radius, for the outgoing direction wo:
-// h = sin(gamma_o). Directions are unit vectors pointing away from the surface.
-// RGB throughout (linear).
+// h = sin(gamma_o). Precisely: with azimuths phi = atan2(y, z), the fibre normal
+// at the hit has azimuth phi_o + gamma_o; when the frame's z is wo projected into
+// the normal plane (a ray-facing ribbon), h is simply the hit's y / radius.
+// Directions are unit vectors pointing away from the surface. RGB throughout
+// (linear). Positive alpha_deg shifts R toward -x (the root, when +x points to
+// the tip) and TT/TRT toward +x. Model, clamps and references: docs/hair-bcsdf.md.
+#include <cmath>
 #include <optional>
+#include <string>
 
 #include <glm/glm.hpp>
 
@@ -22,9 +28,25 @@ struct HairParams {
   glm::vec3 sigma_a{0.0f};         // absorption coefficient per unit radius (cross-section diameter 2)
 };
 
+// Throws plumage::Error naming the parameter and its valid range when params are
+// unusable (non-finite, beta outside (0,1], eta < 1, |alpha_deg| > 45, sigma_a < 0).
+// `what` prefixes the message (for example "feather.fcurves:12: barb material").
+void validate(const HairParams& params, const std::string& what = "hair BCSDF");
+
+// The cosine that f is "without": cos of the longitudinal angle of w, i.e. the
+// cosine to the fibre's normal plane, sqrt(1 - w.x^2). Integrate f * bcsdf_cos(wi).
+// (1-s)(1+s) rather than 1-s^2: exact rounding near the tangent, where f ~ 1/cos.
+inline float bcsdf_cos(const glm::vec3& w) {
+  const float s = glm::clamp(w.x, -1.0f, 1.0f);
+  return std::sqrt((1.0f - s) * (1.0f + s));
+}
+
 // Absorption from melanin concentrations (Chiang et al. 2016, eumelanin and pheomelanin).
+// Concentrations are >= 0 (about 8 is black hair); throws plumage::Error otherwise.
 glm::vec3 sigma_a_from_melanin(float eumelanin, float pheomelanin);
 // Absorption that gives a target multiple-scattering albedo colour (Chiang et al. 2016 eq. 9).
+// Albedo channels are clamped to [1e-4, 1] (a texture may hold exact 0); beta_n to
+// [0.001, 1]; non-finite input throws plumage::Error.
 glm::vec3 sigma_a_from_albedo(const glm::vec3& albedo, float beta_n);
 
 struct BCSDFSample {
@@ -35,9 +57,12 @@ struct BCSDFSample {
 
 class HairBCSDF {
  public:
+  // Validates params (see validate()) and throws plumage::Error for a non-finite h;
+  // h is clamped to [-1,1] and the betas to [0.001, 1] (docs/hair-bcsdf.md).
   HairBCSDF(const HairParams& params, float h);
 
-  // f(wo, wi), without the |cos| factor.
+  // f(wo, wi), without the |cos| factor (see bcsdf_cos). Finite and >= 0 for any
+  // input; 0 for non-finite directions.
   glm::vec3 f(const glm::vec3& wo, const glm::vec3& wi) const;
   // Samples wi given wo with 4 uniform numbers in [0,1); returns nullopt only when
   // no direction can be produced. f and pdf are exactly f(wo, wi) and pdf(wo, wi).
@@ -50,11 +75,21 @@ class HairBCSDF {
  private:
   HairParams p_;
   float h_;
-  // Precomputed per-instance terms (variances, shifts, ...) live here.
-  float v_[4];
-  float sin2k_alpha_[3], cos2k_alpha_[3];
-  float s_;
-  float gamma_o_;
+  struct Eval {
+    glm::dvec3 f;
+    double pdf;
+  };
+  struct Attenuation;
+  Attenuation attenuation(double sin_o, double cos_o) const;
+  Eval eval(const glm::vec3& wo, const glm::vec3& wi) const;
+
+  // Precomputed per-instance terms (double: Mp subtracts terms of size 1/v).
+  double v_[4];                                 // longitudinal variances of R, TT, TRT, residual
+  double mp_log_norm_[4];                       // log of Mp's normalisation per lobe
+  double np_norm_;                              // 1 / (mass of the logistic on [-pi, pi])
+  double sin_shift_[3], cos_shift_[3];          // cuticle shifts of theta_o for R, TT, TRT
+  double s_;                                    // logistic scale
+  double gamma_o_, cos_gamma_o_;
 };
 
 }  // namespace plumage

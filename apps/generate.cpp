@@ -1,0 +1,90 @@
+// `plumage generate`: species preset or params JSON -> feather.fcurves (+ preview).
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "command.h"
+#include "plumage/common/curve_format.h"
+#include "plumage/common/error.h"
+#include "plumage/common/image.h"
+#include "plumage/generator/builder.h"
+#include "plumage/generator/presets.h"
+#include "plumage/generator/preview.h"
+
+namespace plumage::cli {
+namespace {
+
+struct GenerateArgs {
+  std::string preset, params, layout, output, preview;
+  std::uint64_t seed = 1;
+  int preview_size = 1024;
+  bool list_presets = false, print_params = false;
+};
+
+int run_generate(const GenerateArgs& a) {
+  if (a.list_presets) {
+    for (const auto& name : list_presets()) {
+      const FeatherParams p = load_preset(name);
+      std::cout << name << "\n    " << p.description << "\n";
+    }
+    return 0;
+  }
+  if (!a.layout.empty())
+    throw Error(Location{a.layout}, "--layout is not yet supported: the analysis stage's layout.json format "
+                                    "does not exist yet; use --preset or --params");
+  if (a.preset.empty() == a.params.empty())
+    throw Error("give exactly one of --preset NAME or --params FILE (see `plumage generate --list-presets`)");
+
+  const FeatherParams params = a.preset.empty() ? read_params(a.params) : load_preset(a.preset);
+  if (a.print_params) {
+    std::cout << params_to_json(params).dump(2) << "\n";
+    if (a.output.empty()) return 0;
+  }
+  if (a.output.empty()) throw Error("no output file: give -o feather.fcurves");
+  if (std::filesystem::path(a.output).extension() != ".fcurves")
+    throw Error(Location{a.output}, "the output must be a .fcurves file; convert it afterwards with `plumage export`");
+
+  const std::string source = a.preset.empty() ? "params:" + a.params : "preset:" + a.preset;
+  const Feather feather = build_feather(params, a.seed, source);
+  validate_feather(feather);
+  write_fcurves(a.output, feather);
+  if (!a.preview.empty()) write_image(a.preview, render_preview(feather, PreviewOptions{a.preview_size, true}));
+
+  if (!global_options().quiet) {
+    std::cout << "wrote " << a.output << ": " << params.name << " (seed " << a.seed << "), 1 shaft + "
+              << feather.count(CurveKind::Barb) << " barbs (left " << feather.count(VaneSide::Left) << ", right "
+              << feather.count(VaneSide::Right) << "), " << feather.num_control_points() << " control points\n";
+    if (!a.preview.empty()) std::cout << "wrote " << a.preview << " (top view)\n";
+  }
+  return 0;
+}
+
+const Registration reg{
+    "generate",
+    "Build a procedural feather (OpenSubdiv vane, B-spline shaft and barbs) from a species preset or a "
+    "params JSON and write it as .fcurves",
+    [](CLI::App& sub) {
+      auto a = std::make_shared<GenerateArgs>();
+      sub.footer(
+          "Examples:\n"
+          "  plumage generate --preset osprey-wing-covert --seed 1 -o feather.fcurves --preview preview.png\n"
+          "  plumage generate --preset rock-dove-wing --print-params > my.json   (start a custom feather)\n"
+          "  plumage generate --params my.json --seed 7 -o my.fcurves\n"
+          "Parameters, units and ranges: docs/generator.md; preset sources: docs/presets.md.");
+      auto* preset = sub.add_option("--preset", a->preset, "Species preset by name (--list-presets)");
+      auto* params = sub.add_option("--params", a->params, "Feather parameters JSON file (docs/generator.md)");
+      auto* layout = sub.add_option("--layout", a->layout, "Analysis layout.json (not yet supported)");
+      preset->excludes(params)->excludes(layout);
+      params->excludes(layout);
+      sub.add_option("--seed", a->seed, "Random seed: same seed, same feather (default 1)");
+      sub.add_option("-o,--output", a->output, "Output .fcurves file (written atomically)");
+      sub.add_option("--preview", a->preview, "Also write a top-view image of the curves (.png, .jpg, .exr)");
+      sub.add_option("--preview-size", a->preview_size, "Preview size in pixels along the longer side (default 1024)")
+          ->check(CLI::Range(16, 16384));
+      sub.add_flag("--list-presets", a->list_presets, "List the species presets and exit");
+      sub.add_flag("--print-params", a->print_params, "Print the resolved parameters as JSON");
+      return [a] { return run_generate(*a); };
+    }};
+
+}  // namespace
+}  // namespace plumage::cli

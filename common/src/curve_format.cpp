@@ -1,0 +1,618 @@
+// The `.fcurves` reader and writer (spec: docs/curve-format.md).
+//
+// The reader is a single pass over the text, one line at a time, with tokens as
+// views into the text: no per-token allocation, numbers through std::from_chars.
+// Every rule it enforces throws plumage::Error at the line and column of the
+// offending token, so a person editing a file by hand is told where and what.
+#include "plumage/common/curve_format.h"
+
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <system_error>
+
+#include "plumage/common/atomic_file.h"
+#include "plumage/common/error.h"
+#include "float_text.h"
+
+namespace plumage {
+
+namespace {
+
+// ---------------------------------------------------------------- writing ---
+
+constexpr double kNormalTolerance = 1e-3;  // accepted deviation of |n| from 1
+
+using detail::append_float;
+using detail::append_int;
+
+bool printable_string(const std::string& s) {
+  for (unsigned char c : s)
+    if (c < 0x20 || c == 0x7f) return false;
+  return true;
+}
+
+void append_quoted(std::string& out, const std::string& s) {
+  out += '"';
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  out += '"';
+}
+
+}  // namespace
+
+// The writer refuses what the reader would refuse, so every file it writes reads back.
+void validate_feather(const Feather& f) {
+  auto fail = [](const std::string& what) { throw Error("invalid feather: " + what); };
+  if (f.units != "mm") fail("units are '" + f.units + "'; Plumage works in millimetres ('mm')");
+  if (!printable_string(f.provenance.source))
+    fail("provenance source contains a control character (newline, tab, ...)");
+  if (!printable_string(f.albedo.texture))
+    fail("albedo texture path contains a control character (newline, tab, ...)");
+  auto finite3 = [](const glm::vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  };
+  if (!finite3(f.albedo.color) || f.albedo.color.x < 0 || f.albedo.color.y < 0 || f.albedo.color.z < 0)
+    fail("albedo colour must be finite and non-negative");
+  if (!f.albedo.texture.empty()) {
+    const glm::vec2 a = f.albedo.rect_min, b = f.albedo.rect_max;
+    if (!std::isfinite(a.x) || !std::isfinite(a.y) || !std::isfinite(b.x) || !std::isfinite(b.y) ||
+        !(a.x < b.x) || !(a.y < b.y))
+      fail("albedo texture rectangle must be finite with min < max");
+  }
+  for (VaneSide s : {VaneSide::Left, VaneSide::Right}) {
+    const SubstructureParams& p = f.substructure(s);
+    const bool ok = p.barbules_per_side >= 0 && std::isfinite(p.ramus_radius) && p.ramus_radius >= 0 &&
+                    std::isfinite(p.barbule_radius) && p.barbule_radius >= 0 &&
+                    p.elevation_deg > 0 && p.elevation_deg <= 90 && p.azimuth_deg >= -90 &&
+                    p.azimuth_deg <= 90 && p.hooked_fraction >= 0 && p.hooked_fraction <= 1 &&
+                    std::isfinite(p.ribbon_width) && p.ribbon_width >= 0;
+    if (!ok) fail(std::string("substructure parameters of the ") + to_string(s) + " vane are out of range (docs/curve-format.md)");
+  }
+  std::size_t shafts = 0, index = 0;
+  for (const Curve& c : f.curves) {
+    const std::string which = "curve " + std::to_string(index++);
+    if (c.kind == CurveKind::Shaft) {
+      if (++shafts > 1) fail("more than one shaft");
+      if (c.side != VaneSide::None) fail(which + ": the shaft must have side none");
+      if (index != 1) fail(which + ": the shaft must be the first curve");
+    } else if (c.side == VaneSide::None) {
+      fail(which + ": a barb needs a side (left or right)");
+    }
+    if (!(c.root >= 0 && c.root <= 1)) fail(which + ": root must be in [0,1]");
+    if (c.points.size() < 4) fail(which + ": a cubic B-spline needs at least 4 control points");
+    for (const ControlPoint& p : c.points) {
+      if (!finite3(p.p) || !finite3(p.n) || !std::isfinite(p.radius))
+        fail(which + ": control point is not finite");
+      if (p.radius < 0) fail(which + ": negative radius");
+      const double len = glm::length(glm::dvec3(p.n));
+      if (std::abs(len - 1.0) > kNormalTolerance) fail(which + ": normal is not unit length");
+    }
+  }
+}
+
+namespace {
+
+// ---------------------------------------------------------------- reading ---
+
+struct Token {
+  std::string_view text;  // quoted strings keep their quotes
+  int column;             // 1-based
+};
+
+const char* const kPointFields = "x y z radius nx ny nz";
+
+class Reader {
+ public:
+  Reader(std::string_view text, const std::string& filename) : text_(text), file_(filename) {}
+
+  Feather parse();
+
+ private:
+  // Splits the next line into tokens; returns false at end of text.
+  bool next_line();
+  [[noreturn]] void fail(int column, const std::string& message) const {
+    throw Error(Location{file_, line_no_, column}, message);
+  }
+  [[noreturn]] void fail(const Token& t, const std::string& message) const { fail(t.column, message); }
+  int end_column() const { return static_cast<int>(line_.size()) + 1; }
+
+  float to_float(const Token& t, const char* what) const;
+  float finite_float(const Token& t, const char* what) const;
+  float nonneg_float(const Token& t, const char* what) const;
+  float ranged_float(const Token& t, const char* what, float lo, float hi, const char* range) const;
+  std::uint64_t unsigned_int(const Token& t, const char* what) const;
+  std::string quoted(const Token& t, const char* what) const;
+  void expect_count(std::size_t n, const std::string& form) const;
+
+  void parse_header_line();
+  void parse_record(Feather& f);
+  void parse_albedo(Feather& f);
+  void parse_substructure(Feather& f);
+  void parse_curve(Feather& f);
+  void parse_point(ControlPoint& p);
+  void parse_trailer();
+
+  std::string_view text_;
+  std::string file_;
+  std::size_t pos_ = 0;
+  int line_no_ = 0;
+  std::string_view line_;
+  std::vector<Token> tok_;
+
+  // Records seen (line numbers, 0 = not yet), to reject duplicates and check required ones.
+  int units_line_ = 0, source_line_ = 0, seed_line_ = 0, color_line_ = 0, texture_line_ = 0,
+      left_line_ = 0, right_line_ = 0, curves_line_ = 0, shaft_line_ = 0,
+      last_curve_line_ = 0;
+  std::uint64_t declared_curves_ = 0;
+  bool in_curves_ = false;
+};
+
+bool Reader::next_line() {
+  if (pos_ >= text_.size()) return false;
+  std::size_t nl = text_.find('\n', pos_);
+  if (nl == std::string_view::npos) nl = text_.size();
+  line_ = text_.substr(pos_, nl - pos_);
+  if (!line_.empty() && line_.back() == '\r') line_.remove_suffix(1);  // tolerate CRLF files
+  pos_ = nl + 1;
+  ++line_no_;
+
+  tok_.clear();
+  const char* s = line_.data();
+  const std::size_t n = line_.size();
+  std::size_t i = 0;
+  while (i < n) {
+    const char c = s[i];
+    if (c == ' ' || c == '\t') { ++i; continue; }
+    if (c == '#') break;
+    const std::size_t start = i;
+    if (c == '"') {
+      ++i;
+      for (;;) {
+        if (i >= n) fail(static_cast<int>(start) + 1, "unterminated string: add the closing '\"'");
+        if (s[i] == '\\') {
+          if (i + 1 >= n || (s[i + 1] != '"' && s[i + 1] != '\\'))
+            fail(static_cast<int>(i) + 1, "unknown escape in string: only \\\" and \\\\ are allowed");
+          i += 2;
+          continue;
+        }
+        if (s[i] == '"') { ++i; break; }
+        if (static_cast<unsigned char>(s[i]) < 0x20 || s[i] == 0x7f)
+          fail(static_cast<int>(i) + 1, "control character in a string: strings are one line of printable text");
+        ++i;
+      }
+      if (i < n && s[i] != ' ' && s[i] != '\t' && s[i] != '#')
+        fail(static_cast<int>(i) + 1, "expected a space after the closing '\"'");
+    } else {
+      while (i < n && s[i] != ' ' && s[i] != '\t' && s[i] != '#') {
+        if (s[i] == '"') fail(static_cast<int>(i) + 1, "stray '\"' inside a word: quote the whole string");
+        if (static_cast<unsigned char>(s[i]) < 0x20 || s[i] == 0x7f)
+          fail(static_cast<int>(i) + 1, "control character in the text: the file must be plain text");
+        ++i;
+      }
+    }
+    tok_.push_back({line_.substr(start, i - start), static_cast<int>(start) + 1});
+  }
+  return true;
+}
+
+float Reader::to_float(const Token& t, const char* what) const {
+  float v = 0;
+  const char* b = t.text.data();
+  const char* e = b + t.text.size();
+  // from_chars does not take a leading '+'; numbers in the format never have one.
+  auto [ptr, ec] = std::from_chars(b, e, v, std::chars_format::general);
+  if (ec == std::errc::result_out_of_range)
+    fail(t, std::string(what) + ": '" + std::string(t.text) + "' is out of range for a 32-bit float");
+  if (ec != std::errc() || ptr != e)
+    fail(t, std::string(what) + ": expected a number, found '" + std::string(t.text) + "'");
+  return v;
+}
+
+float Reader::finite_float(const Token& t, const char* what) const {
+  const float v = to_float(t, what);
+  if (!std::isfinite(v)) fail(t, std::string(what) + ": must be finite, found '" + std::string(t.text) + "'");
+  return v;
+}
+
+float Reader::nonneg_float(const Token& t, const char* what) const {
+  const float v = finite_float(t, what);
+  if (v < 0) fail(t, std::string(what) + ": must not be negative, found '" + std::string(t.text) + "'");
+  return v;
+}
+
+float Reader::ranged_float(const Token& t, const char* what, float lo, float hi,
+                           const char* range) const {
+  const float v = finite_float(t, what);
+  if (v < lo || v > hi)
+    fail(t, std::string(what) + ": must be in " + range + ", found '" + std::string(t.text) + "'");
+  return v;
+}
+
+std::uint64_t Reader::unsigned_int(const Token& t, const char* what) const {
+  std::uint64_t v = 0;
+  const char* b = t.text.data();
+  const char* e = b + t.text.size();
+  auto [ptr, ec] = std::from_chars(b, e, v);
+  if (ec == std::errc::result_out_of_range)
+    fail(t, std::string(what) + ": '" + std::string(t.text) + "' is too large");
+  if (ec != std::errc() || ptr != e)
+    fail(t, std::string(what) + ": expected a whole number >= 0, found '" + std::string(t.text) + "'");
+  return v;
+}
+
+std::string Reader::quoted(const Token& t, const char* what) const {
+  if (t.text.size() < 2 || t.text.front() != '"')
+    fail(t, std::string(what) + ": expected a string in double quotes, found '" + std::string(t.text) + "'");
+  std::string s;
+  s.reserve(t.text.size() - 2);
+  for (std::size_t i = 1; i + 1 < t.text.size(); ++i) {
+    if (t.text[i] == '\\') ++i;  // the tokenizer has checked the escape
+    s += t.text[i];
+  }
+  return s;
+}
+
+void Reader::expect_count(std::size_t n, const std::string& form) const {
+  if (tok_.size() < n)
+    fail(end_column(), "'" + std::string(tok_[0].text) + "' record is incomplete: expected '" + form + "'");
+  if (tok_.size() > n)
+    fail(tok_[n], "unexpected '" + std::string(tok_[n].text) + "' after '" + form + "'");
+}
+
+void Reader::parse_header_line() {
+  if (!next_line()) line_no_ = 1;  // an empty file: point at its first line
+  if (line_no_ != 1 || tok_.empty() || tok_[0].text != "fcurves")
+    fail(1, "missing header: the first line must be 'fcurves " + std::to_string(kFcurvesVersion) +
+                "' (is this a .fcurves file?)");
+  if (tok_.size() < 2) fail(end_column(), "header: expected a version number after 'fcurves'");
+  const std::uint64_t version = unsigned_int(tok_[1], "format version");
+  if (version > static_cast<std::uint64_t>(kFcurvesVersion))
+    fail(tok_[1], "format version " + std::string(tok_[1].text) + " is newer than this reader (" +
+                      std::to_string(kFcurvesVersion) + "): upgrade Plumage to read it");
+  if (version < 1) fail(tok_[1], "format version must be 1 or more, found " + std::string(tok_[1].text));
+  expect_count(2, "fcurves VERSION");
+}
+
+void Reader::parse_albedo(Feather& f) {
+  if (tok_.size() < 2) fail(end_column(), "albedo: expected 'color' or 'texture'");
+  const Token& kind = tok_[1];
+  if (kind.text == "color") {
+    if (color_line_) fail(tok_[0], "second 'albedo color' record (first on line " + std::to_string(color_line_) + ")");
+    color_line_ = line_no_;
+    expect_count(5, "albedo color R G B");
+    for (int i = 0; i < 3; ++i) f.albedo.color[i] = nonneg_float(tok_[2 + i], "albedo colour");
+  } else if (kind.text == "texture") {
+    if (texture_line_) fail(tok_[0], "second 'albedo texture' record (first on line " + std::to_string(texture_line_) + ")");
+    texture_line_ = line_no_;
+    expect_count(7, "albedo texture \"FILE\" XMIN YMIN XMAX YMAX");
+    f.albedo.texture = quoted(tok_[2], "albedo texture");
+    if (f.albedo.texture.empty()) fail(tok_[2], "albedo texture: the file name is empty");
+    f.albedo.rect_min = {finite_float(tok_[3], "albedo texture XMIN"), finite_float(tok_[4], "albedo texture YMIN")};
+    f.albedo.rect_max = {finite_float(tok_[5], "albedo texture XMAX"), finite_float(tok_[6], "albedo texture YMAX")};
+    if (!(f.albedo.rect_min.x < f.albedo.rect_max.x)) fail(tok_[5], "albedo texture: XMAX must be greater than XMIN");
+    if (!(f.albedo.rect_min.y < f.albedo.rect_max.y)) fail(tok_[6], "albedo texture: YMAX must be greater than YMIN");
+  } else {
+    fail(kind, "albedo: expected 'color' or 'texture', found '" + std::string(kind.text) + "'");
+  }
+}
+
+void Reader::parse_substructure(Feather& f) {
+  if (tok_.size() < 2) fail(end_column(), "substructure: expected a vane side, 'left' or 'right'");
+  const Token& side = tok_[1];
+  int* seen = nullptr;
+  SubstructureParams p;
+  if (side.text == "left") seen = &left_line_;
+  else if (side.text == "right") seen = &right_line_;
+  else fail(side, "substructure: expected 'left' or 'right', found '" + std::string(side.text) + "'");
+  if (*seen)
+    fail(tok_[0], "second 'substructure " + std::string(side.text) + "' record (first on line " +
+                      std::to_string(*seen) + ")");
+  *seen = line_no_;
+
+  static constexpr const char* kKeys[] = {"barbules", "ramus_radius", "barbule_radius", "elevation",
+                                          "azimuth", "hooked_fraction", "ribbon_width"};
+  constexpr int kNumKeys = 7;
+  int key_col[kNumKeys] = {};
+  for (std::size_t i = 2; i < tok_.size(); i += 2) {
+    const Token& key = tok_[i];
+    int k = 0;
+    while (k < kNumKeys && key.text != kKeys[k]) ++k;
+    if (k == kNumKeys)
+      fail(key, "substructure: unknown key '" + std::string(key.text) +
+                    "' (known: barbules ramus_radius barbule_radius elevation azimuth hooked_fraction ribbon_width)");
+    if (key_col[k]) fail(key, "substructure: key '" + std::string(key.text) + "' given twice");
+    key_col[k] = key.column;
+    if (i + 1 >= tok_.size()) fail(end_column(), "substructure: expected a value after '" + std::string(key.text) + "'");
+    const Token& v = tok_[i + 1];
+    switch (k) {
+      case 0: {
+        const std::uint64_t n = unsigned_int(v, "barbules");
+        if (n > static_cast<std::uint64_t>(std::numeric_limits<int>::max())) fail(v, "barbules: too large");
+        p.barbules_per_side = static_cast<int>(n);
+        break;
+      }
+      case 1: p.ramus_radius = nonneg_float(v, "ramus_radius"); break;
+      case 2: p.barbule_radius = nonneg_float(v, "barbule_radius"); break;
+      case 3:
+        p.elevation_deg = finite_float(v, "elevation");
+        if (!(p.elevation_deg > 0 && p.elevation_deg <= 90))
+          fail(v, "elevation: must be in (0, 90] degrees, found '" + std::string(v.text) + "'");
+        break;
+      case 4: p.azimuth_deg = ranged_float(v, "azimuth", -90, 90, "[-90, 90] degrees"); break;
+      case 5: p.hooked_fraction = ranged_float(v, "hooked_fraction", 0, 1, "[0, 1]"); break;
+      case 6: p.ribbon_width = nonneg_float(v, "ribbon_width"); break;
+    }
+  }
+  for (int k = 0; k < kNumKeys; ++k)
+    if (!key_col[k])
+      fail(end_column(), "substructure " + std::string(side.text) + ": missing required key '" +
+                             kKeys[k] + "'");
+  f.substructure(side.text == "left" ? VaneSide::Left : VaneSide::Right) = p;
+}
+
+void Reader::parse_record(Feather& f) {
+  const Token& key = tok_[0];
+  const std::string_view k = key.text;
+  auto once = [&](int& seen) {
+    if (seen)
+      fail(key, "second '" + std::string(k) + "' record (first on line " + std::to_string(seen) + ")");
+    seen = line_no_;
+  };
+  if (k == "curve") return parse_curve(f);
+  if (k == "fcurves")
+    fail(key, "second 'fcurves' header: a file holds one feather (was a file pasted into another?)");
+  const char c0 = k.front();
+  if ((c0 >= '0' && c0 <= '9') || c0 == '-' || c0 == '.') {
+    if (in_curves_)
+      fail(key, "unexpected numbers: the curve on line " + std::to_string(last_curve_line_) +
+                    " has more point lines than its NPOINTS says");
+    fail(key, "unexpected numbers outside a curve: control points follow a 'curve' record");
+  }
+  const bool header = k == "units" || k == "source" || k == "seed" || k == "albedo" ||
+                      k == "substructure" || k == "curves";
+  if (!header)
+    fail(key, "unknown record '" + std::string(k) +
+                  "' (expected units, source, seed, albedo, substructure, curves, curve or end)");
+  if (in_curves_)
+    fail(key, "header record '" + std::string(k) + "' after the first curve: move it above the curves");
+  if (k == "units") {
+    once(units_line_);
+    expect_count(2, "units mm");
+    if (tok_[1].text != "mm")
+      fail(tok_[1], "units: only 'mm' is supported (Plumage works in millimetres), found '" +
+                        std::string(tok_[1].text) + "'");
+    f.units = "mm";
+  } else if (k == "source") {
+    once(source_line_);
+    expect_count(2, "source \"TEXT\"");
+    f.provenance.source = quoted(tok_[1], "source");
+  } else if (k == "seed") {
+    once(seed_line_);
+    expect_count(2, "seed N");
+    f.provenance.seed = unsigned_int(tok_[1], "seed");
+  } else if (k == "albedo") {
+    parse_albedo(f);
+  } else if (k == "substructure") {
+    parse_substructure(f);
+  } else {  // curves
+    once(curves_line_);
+    expect_count(2, "curves N");
+    declared_curves_ = unsigned_int(tok_[1], "curves");
+    // A count that lies must not make us allocate: each curve takes at least five lines of text.
+    const std::uint64_t room = (text_.size() - std::min(pos_, text_.size())) / 40 + 1;
+    f.curves.reserve(static_cast<std::size_t>(std::min(declared_curves_, room)));
+  }
+}
+
+void Reader::parse_point(ControlPoint& p) {
+  if (tok_.size() != 7) {
+    if (tok_.size() < 7)
+      fail(end_column(), "control point: expected 7 numbers (" + std::string(kPointFields) + "), found " +
+                             std::to_string(tok_.size()));
+    fail(tok_[7], "control point: expected 7 numbers (" + std::string(kPointFields) + "), found " +
+                      std::to_string(tok_.size()));
+  }
+  p.p.x = finite_float(tok_[0], "x");
+  p.p.y = finite_float(tok_[1], "y");
+  p.p.z = finite_float(tok_[2], "z");
+  p.radius = finite_float(tok_[3], "radius");
+  if (p.radius < 0) fail(tok_[3], "radius: must not be negative, found '" + std::string(tok_[3].text) + "'");
+  p.n.x = finite_float(tok_[4], "nx");
+  p.n.y = finite_float(tok_[5], "ny");
+  p.n.z = finite_float(tok_[6], "nz");
+  const glm::dvec3 n(p.n);
+  const double len = std::sqrt(glm::dot(n, n));
+  if (!(len > 1e-6)) fail(tok_[4], "normal: zero length, expected a unit vector (the vane's dorsal direction)");
+  // Hand-edited normals need not be exactly unit; within tolerance they are kept
+  // bit-exact so written files round-trip.
+  if (std::abs(len - 1.0) > kNormalTolerance) p.n = glm::vec3(n / len);
+}
+
+void Reader::parse_curve(Feather& f) {
+  in_curves_ = true;
+  if (!units_line_) fail(tok_[0], "missing 'units mm' record before the first curve");
+  if (!curves_line_) fail(tok_[0], "missing 'curves N' record before the first curve");
+  const char* form = "curve shaft|barb none|left|right bspline NPOINTS root F";
+  expect_count(7, form);
+  if (f.curves.size() >= declared_curves_)
+    fail(tok_[0], "more curves than the 'curves " + std::to_string(declared_curves_) + "' record on line " +
+                      std::to_string(curves_line_) + " declares");
+  Curve c;
+  if (tok_[1].text == "shaft") c.kind = CurveKind::Shaft;
+  else if (tok_[1].text == "barb") c.kind = CurveKind::Barb;
+  else fail(tok_[1], "curve kind: expected 'shaft' or 'barb', found '" + std::string(tok_[1].text) + "'");
+  if (tok_[2].text == "none") c.side = VaneSide::None;
+  else if (tok_[2].text == "left") c.side = VaneSide::Left;
+  else if (tok_[2].text == "right") c.side = VaneSide::Right;
+  else fail(tok_[2], "vane side: expected 'none', 'left' or 'right', found '" + std::string(tok_[2].text) + "'");
+  if (c.kind == CurveKind::Shaft) {
+    if (c.side != VaneSide::None) fail(tok_[2], "the shaft belongs to no vane: its side must be 'none'");
+    if (shaft_line_) fail(tok_[1], "second shaft (the first is on line " + std::to_string(shaft_line_) + ")");
+    if (!f.curves.empty()) fail(tok_[1], "the shaft must be the first curve");
+    shaft_line_ = line_no_;
+  } else if (c.side == VaneSide::None) {
+    fail(tok_[2], "a barb belongs to a vane: its side must be 'left' or 'right'");
+  }
+  if (tok_[3].text != "bspline")
+    fail(tok_[3], "basis: only 'bspline' (uniform cubic B-spline) is supported, found '" +
+                      std::string(tok_[3].text) + "'");
+  const std::uint64_t npoints = unsigned_int(tok_[4], "NPOINTS");
+  if (npoints < 4) fail(tok_[4], "a cubic B-spline needs at least 4 control points, found " + std::string(tok_[4].text));
+  if (tok_[5].text != "root") fail(tok_[5], "expected 'root', found '" + std::string(tok_[5].text) + "'");
+  c.root = ranged_float(tok_[6], "root", 0, 1, "[0, 1] (a fraction of the shaft length)");
+
+  const int curve_line = line_no_;
+  last_curve_line_ = line_no_;
+  // Never trust the count for allocation: a point line is at least 14 bytes.
+  const std::uint64_t room = (text_.size() - std::min(pos_, text_.size())) / 14 + 1;
+  c.points.resize(static_cast<std::size_t>(std::min(npoints, room)));
+  for (std::uint64_t i = 0; i < npoints; ++i) {
+    do {
+      if (!next_line())
+        fail(end_column(), "file ends inside the curve on line " + std::to_string(curve_line) +
+                               ": expected point " + std::to_string(i + 1) + " of " +
+                               std::to_string(npoints) + " (truncated file?)");
+    } while (tok_.empty());
+    if (tok_[0].text == "curve" || tok_[0].text == "end")
+      fail(tok_[0], "expected point " + std::to_string(i + 1) + " of " + std::to_string(npoints) +
+                        " of the curve on line " + std::to_string(curve_line) + ", found '" +
+                        std::string(tok_[0].text) + "' (NPOINTS says more points than there are)");
+    if (i >= c.points.size()) c.points.emplace_back();
+    parse_point(c.points[static_cast<std::size_t>(i)]);
+  }
+  f.curves.push_back(std::move(c));
+}
+
+void Reader::parse_trailer() {
+  while (next_line())
+    if (!tok_.empty()) fail(tok_[0], "text after 'end': a file holds one feather and stops at 'end'");
+}
+
+Feather Reader::parse() {
+  Feather f;
+  parse_header_line();
+  for (;;) {
+    if (!next_line())
+      fail(end_column(), "missing 'end' at the end of the file (truncated file?)");
+    if (tok_.empty()) continue;
+    if (tok_[0].text == "end") {
+      expect_count(1, "end");
+      if (!units_line_) fail(tok_[0], "missing 'units mm' record");
+      if (!curves_line_) fail(tok_[0], "missing 'curves N' record");
+      if (f.curves.size() != declared_curves_)
+        fail(tok_[0], "the file has " + std::to_string(f.curves.size()) + " curves but the 'curves' record on line " +
+                          std::to_string(curves_line_) + " declares " + std::to_string(declared_curves_) +
+                          " (truncated or edited file?)");
+      break;
+    }
+    if (tok_[0].text.front() == '"') fail(tok_[0], "expected a record name, found a string");
+    parse_record(f);
+  }
+  parse_trailer();
+  return f;
+}
+
+}  // namespace
+
+std::string format_fcurves(const Feather& f) {
+  validate_feather(f);
+  std::string out;
+  out.reserve(256 + f.num_control_points() * 64 + f.curves.size() * 48);
+  out += "fcurves ";
+  append_int(out, kFcurvesVersion);
+  out += "\nunits mm\n";
+  if (!f.provenance.source.empty()) {
+    out += "source ";
+    append_quoted(out, f.provenance.source);
+    out += '\n';
+  }
+  if (f.provenance.seed) {
+    out += "seed ";
+    append_int(out, *f.provenance.seed);
+    out += '\n';
+  }
+  out += "albedo color ";
+  for (int i = 0; i < 3; ++i) {
+    if (i) out += ' ';
+    append_float(out, f.albedo.color[i]);
+  }
+  out += '\n';
+  if (!f.albedo.texture.empty()) {
+    out += "albedo texture ";
+    append_quoted(out, f.albedo.texture);
+    for (float v : {f.albedo.rect_min.x, f.albedo.rect_min.y, f.albedo.rect_max.x, f.albedo.rect_max.y}) {
+      out += ' ';
+      append_float(out, v);
+    }
+    out += '\n';
+  }
+  for (VaneSide s : {VaneSide::Left, VaneSide::Right}) {
+    const SubstructureParams& p = f.substructure(s);
+    out += "substructure ";
+    out += to_string(s);
+    out += " barbules ";
+    append_int(out, p.barbules_per_side);
+    out += " ramus_radius ";
+    append_float(out, p.ramus_radius);
+    out += " barbule_radius ";
+    append_float(out, p.barbule_radius);
+    out += " elevation ";
+    append_float(out, p.elevation_deg);
+    out += " azimuth ";
+    append_float(out, p.azimuth_deg);
+    out += " hooked_fraction ";
+    append_float(out, p.hooked_fraction);
+    out += " ribbon_width ";
+    append_float(out, p.ribbon_width);
+    out += '\n';
+  }
+  out += "curves ";
+  append_int(out, f.curves.size());
+  out += '\n';
+  for (const Curve& c : f.curves) {
+    out += "curve ";
+    out += to_string(c.kind);
+    out += ' ';
+    out += to_string(c.side);
+    out += " bspline ";
+    append_int(out, c.points.size());
+    out += " root ";
+    append_float(out, c.root);
+    out += '\n';
+    for (const ControlPoint& p : c.points) {
+      append_float(out, p.p.x);
+      out += ' ';
+      append_float(out, p.p.y);
+      out += ' ';
+      append_float(out, p.p.z);
+      out += ' ';
+      append_float(out, p.radius);
+      out += ' ';
+      append_float(out, p.n.x);
+      out += ' ';
+      append_float(out, p.n.y);
+      out += ' ';
+      append_float(out, p.n.z);
+      out += '\n';
+    }
+  }
+  out += "end\n";
+  return out;
+}
+
+void write_fcurves(const std::filesystem::path& path, const Feather& feather) {
+  write_file_atomic(path, format_fcurves(feather));
+}
+
+Feather parse_fcurves(std::string_view text, const std::string& filename) {
+  return Reader(text, filename).parse();
+}
+
+Feather read_fcurves(const std::filesystem::path& path) {
+  return parse_fcurves(read_file(path), path.string());
+}
+
+}  // namespace plumage

@@ -1,0 +1,247 @@
+// The hair BCSDF of Chiang et al. 2016 (Marschner et al. 2003 lobes, d'Eon et al.
+// 2011 longitudinal term), written from the papers. Scalar terms: hair_terms.h.
+#include "plumage/renderer/hair_bcsdf.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "hair_terms.h"
+#include "plumage/common/error.h"
+
+namespace plumage {
+
+namespace {
+
+using hair::kPi;
+
+constexpr int kLobes = 4;            // R, TT, TRT and the residual p >= 3
+constexpr double kBetaMin = 1e-3;    // below this the lobes are narrower than float directions resolve
+constexpr double kMaxAlphaDeg = 45;  // 4 alpha (TRT) stays within a half turn
+constexpr float kMinAlbedo = 1e-4f;  // ln(0) would make sigma_a infinite
+
+[[noreturn]] void fail(const std::string& what, const std::string& name, double value,
+                       const std::string& fix) {
+  std::ostringstream msg;
+  msg << what << ": " << name << " = " << value << " " << fix;
+  throw Error(msg.str());
+}
+
+bool finite(const glm::vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+double clamp_beta(double beta) { return std::clamp(beta, kBetaMin, 1.0); }
+
+double mean(const glm::dvec3& c) { return (c.x + c.y + c.z) / 3.0; }
+
+// Longitude of a direction in the fibre frame, as (sin, cos) with cos >= 0.
+struct Longitude {
+  double sin, cos;
+};
+Longitude longitude(const glm::vec3& w) {
+  const double s = std::clamp(static_cast<double>(w.x), -1.0, 1.0);
+  return {s, std::sqrt(std::max(0.0, 1.0 - s * s))};
+}
+
+// Azimuth in the normal plane, phi = atan2(y, z) (0 for directions along the tangent).
+double azimuth(const glm::vec3& w) { return std::atan2(double(w.y), double(w.z)); }
+
+}  // namespace
+
+void validate(const HairParams& p, const std::string& what) {
+  const auto roughness = [&](const char* name, float beta) {
+    if (!(beta > 0.0f && beta <= 1.0f))
+      fail(what, name, beta, "is outside (0, 1]; use a roughness between 0.001 and 1");
+  };
+  roughness("beta_m", p.beta_m);
+  roughness("beta_n", p.beta_n);
+  if (!(std::abs(p.alpha_deg) <= kMaxAlphaDeg))
+    fail(what, "alpha_deg", p.alpha_deg, "is outside [-45, 45]; cuticle tilts are a few degrees (2 is typical)");
+  if (!(p.eta >= 1.0f && std::isfinite(p.eta)))
+    fail(what, "eta", p.eta, "is not a finite index of refraction >= 1; keratin is 1.55");
+  for (int c = 0; c < 3; ++c)
+    if (!(p.sigma_a[c] >= 0.0f && std::isfinite(p.sigma_a[c])))
+      fail(what, "sigma_a[" + std::to_string(c) + "]", p.sigma_a[c],
+           "is not a finite absorption >= 0; use 0 for white, a few units for dark fibres");
+}
+
+// Chiang et al. 2016 §4.1: linear combination of the eumelanin and pheomelanin
+// absorption spectra of d'Eon et al. 2011 (per unit radius).
+glm::vec3 sigma_a_from_melanin(float eumelanin, float pheomelanin) {
+  const auto check = [](const char* name, float c) {
+    if (!(c >= 0.0f && std::isfinite(c)))
+      fail("melanin", name, c, "is not a finite concentration >= 0; about 8 gives black hair");
+  };
+  check("eumelanin", eumelanin);
+  check("pheomelanin", pheomelanin);
+  const glm::vec3 sigma_eumelanin(0.419f, 0.697f, 1.37f);
+  const glm::vec3 sigma_pheomelanin(0.187f, 0.4f, 1.05f);
+  return eumelanin * sigma_eumelanin + pheomelanin * sigma_pheomelanin;
+}
+
+// Chiang et al. 2016 eq. 9: sigma_a = (ln A / (5.969 - 0.215 bn + 2.532 bn^2 -
+// 10.73 bn^3 + 5.574 bn^4 + 0.245 bn^5))^2; the denominator is >= 3.375 on (0,1].
+glm::vec3 sigma_a_from_albedo(const glm::vec3& albedo, float beta_n) {
+  if (!finite(albedo)) fail("albedo", "colour", albedo.x + albedo.y + albedo.z, "is not finite");
+  if (!std::isfinite(beta_n)) fail("albedo", "beta_n", beta_n, "is not finite");
+  const double b = clamp_beta(beta_n);
+  const double denom =
+      5.969 - 0.215 * b + 2.532 * b * b - 10.73 * std::pow(b, 3) + 5.574 * std::pow(b, 4) +
+      0.245 * std::pow(b, 5);
+  glm::vec3 sigma;
+  for (int c = 0; c < 3; ++c) {
+    const double a = std::clamp(albedo[c], kMinAlbedo, 1.0f);
+    const double t = std::log(a) / denom;
+    sigma[c] = static_cast<float>(t * t);
+  }
+  return sigma;
+}
+
+HairBCSDF::HairBCSDF(const HairParams& params, float h) : p_(params) {
+  validate(params);
+  if (!std::isfinite(h)) fail("hair BCSDF", "h", h, "is not finite; the renderer computed a bad fibre offset");
+  h_ = std::clamp(h, -1.0f, 1.0f);
+  p_.beta_m = static_cast<float>(clamp_beta(params.beta_m));
+  p_.beta_n = static_cast<float>(clamp_beta(params.beta_n));
+
+  // Chiang et al. 2016 §4.2: the TT lobe is half as wide as R, TRT and the residual twice.
+  const double v = hair::variance_from_beta_m(p_.beta_m);
+  v_[0] = v;
+  v_[1] = 0.25 * v;
+  v_[2] = 4.0 * v;
+  v_[3] = 4.0 * v;
+  for (int p = 0; p < kLobes; ++p) mp_log_norm_[p] = hair::longitudinal_mp_log_norm(v_[p]);
+  s_ = hair::logistic_scale_from_beta_n(p_.beta_n);
+  np_norm_ = hair::trimmed_logistic_norm(s_);
+
+  // Marschner et al. 2003 Table 1 shifts, in the 2^k alpha form: R by 2 alpha toward
+  // the root, TT by alpha and TRT by 4 alpha toward the tip. The shift is applied to
+  // theta_o: the lobe is centred on theta_i = -(theta_o + shift).
+  const double alpha = double(p_.alpha_deg) * kPi / 180.0;
+  const double shift[3] = {2.0 * alpha, -alpha, -4.0 * alpha};
+  for (int p = 0; p < 3; ++p) {
+    sin_shift_[p] = std::sin(shift[p]);
+    cos_shift_[p] = std::cos(shift[p]);
+  }
+  gamma_o_ = std::asin(double(h_));
+  cos_gamma_o_ = std::sqrt(std::max(0.0, 1.0 - double(h_) * h_));
+}
+
+struct HairBCSDF::Attenuation {
+  glm::dvec3 A[kLobes];
+  double weight[kLobes];  // lobe selection probabilities, A_p (mean over RGB) normalised
+  double gamma_t;
+};
+
+// Chiang et al. 2016 eqs. 3-6 (after Marschner et al. 2003 §4.2): A_0 = F,
+// A_p = (1-F)^2 F^{p-1} T^p, residual A_3 = A_2 F T / (1 - F T); F is the Fresnel
+// reflectance at cos(theta_o) cos(gamma_o), T the absorption along one internal
+// chord, of length 2 cos(gamma_t) / cos(theta_t) radii.
+HairBCSDF::Attenuation HairBCSDF::attenuation(double sin_o, double cos_o) const {
+  Attenuation at;
+  const double eta = p_.eta;
+  // Bravais' effective index eta' = sqrt(eta^2 - sin^2 theta_o) / cos theta_o, written so
+  // that theta_o = +-pi/2 and eta = 1 do not divide by zero.
+  const double root = std::sqrt(std::max(0.0, eta * eta - sin_o * sin_o));
+  const double sin_gamma_t = root > 0.0 ? std::clamp(double(h_) * cos_o / root, -1.0, 1.0) : 0.0;
+  at.gamma_t = std::asin(sin_gamma_t);
+  const double cos_gamma_t = std::sqrt(std::max(0.0, 1.0 - sin_gamma_t * sin_gamma_t));
+  const double sin_t = sin_o / eta;
+  const double cos_t = std::sqrt(std::max(0.0, 1.0 - sin_t * sin_t));
+  const double chord = 2.0 * cos_gamma_t / std::max(cos_t, 1e-12);
+  const glm::dvec3 T(std::exp(-double(p_.sigma_a.x) * chord), std::exp(-double(p_.sigma_a.y) * chord),
+                     std::exp(-double(p_.sigma_a.z) * chord));
+  const double F = hair::fresnel_dielectric(cos_o * cos_gamma_o_, eta);
+
+  at.A[0] = glm::dvec3(F);
+  at.A[1] = (1.0 - F) * (1.0 - F) * T;
+  at.A[2] = at.A[1] * F * T;
+  for (int c = 0; c < 3; ++c) {
+    const double loss = 1.0 - F * T[c];
+    at.A[3][c] = loss > 0.0 ? at.A[2][c] * F * T[c] / loss : 0.0;
+  }
+  double total = 0.0;
+  for (int p = 0; p < kLobes; ++p) total += mean(at.A[p]);
+  for (int p = 0; p < kLobes; ++p) at.weight[p] = total > 0.0 ? mean(at.A[p]) / total : 0.0;
+  return at;
+}
+
+// Chiang et al. 2016 eq. 2: f = sum_p Mp Ap Np / cos(theta_i); the pdf of their §4.3
+// sampling is sum_p w_p Mp Np (Mp Np is a density over solid angle).
+HairBCSDF::Eval HairBCSDF::eval(const glm::vec3& wo, const glm::vec3& wi) const {
+  if (!finite(wo) || !finite(wi)) return {glm::dvec3(0.0), 0.0};
+  const Longitude o = longitude(wo), i = longitude(wi);
+  const double phi = azimuth(wi) - azimuth(wo);
+  const Attenuation at = attenuation(o.sin, o.cos);
+
+  glm::dvec3 f(0.0);
+  double pdf = 0.0;
+  for (int p = 0; p < 3; ++p) {
+    const double sin_op = o.sin * cos_shift_[p] + o.cos * sin_shift_[p];
+    const double cos_op = o.cos * cos_shift_[p] - o.sin * sin_shift_[p];
+    const double mp = hair::longitudinal_mp(i.sin, i.cos, sin_op, cos_op, v_[p], mp_log_norm_[p]);
+    const double np = hair::trimmed_logistic(
+        hair::wrap_angle(phi - hair::azimuthal_shift(p, gamma_o_, at.gamma_t)), s_, np_norm_);
+    f += at.A[p] * (mp * np);
+    pdf += at.weight[p] * (mp * np);
+  }
+  // The residual lobe: unshifted, azimuthally uniform (Chiang et al. 2016 §4.1).
+  const double mp3 = hair::longitudinal_mp(i.sin, i.cos, o.sin, o.cos, v_[3], mp_log_norm_[3]);
+  f += at.A[3] * (mp3 / (2.0 * kPi));
+  pdf += at.weight[3] * (mp3 / (2.0 * kPi));
+
+  f = i.cos > 0.0 ? f / i.cos : glm::dvec3(0.0);
+  // pdf >= w_p Mp Np >= f cos / 3 per channel; flush what float would turn into f > 0, pdf = 0.
+  if (!(float(pdf) > 0.0f) || !std::isfinite(float(pdf))) return {glm::dvec3(0.0), 0.0};
+  return {f, pdf};
+}
+
+glm::vec3 HairBCSDF::f(const glm::vec3& wo, const glm::vec3& wi) const {
+  return glm::vec3(eval(wo, wi).f);
+}
+
+float HairBCSDF::pdf(const glm::vec3& wo, const glm::vec3& wi) const {
+  return static_cast<float>(eval(wo, wi).pdf);
+}
+
+// Chiang et al. 2016 §4.3: pick a lobe by its weight, sample theta_i from its Mp and
+// the azimuth from its trimmed logistic (uniform for the residual).
+std::optional<BCSDFSample> HairBCSDF::sample(const glm::vec3& wo, const glm::vec2& u0,
+                                             const glm::vec2& u1) const {
+  if (!finite(wo)) return std::nullopt;
+  const Longitude o = longitude(wo);
+  const Attenuation at = attenuation(o.sin, o.cos);
+
+  // The last lobe with weight catches u0.x beyond a cdf that rounding left below 1.
+  int p = -1;
+  double cdf = 0.0;
+  for (int q = 0; q < kLobes; ++q) {
+    if (at.weight[q] <= 0.0) continue;
+    p = q;
+    cdf += at.weight[q];
+    if (double(u0.x) < cdf) break;
+  }
+  if (p < 0) return std::nullopt;  // every lobe absorbed: no direction carries light
+
+  double sin_op = o.sin, cos_op = o.cos;
+  if (p < 3) {
+    sin_op = o.sin * cos_shift_[p] + o.cos * sin_shift_[p];
+    cos_op = o.cos * cos_shift_[p] - o.sin * sin_shift_[p];
+  }
+  const double sin_i = hair::sample_mp_sin_theta(sin_op, cos_op, v_[p], u1.x, u1.y);
+  const double cos_i = std::sqrt(std::max(0.0, 1.0 - sin_i * sin_i));
+  const double dphi = p < 3 ? hair::azimuthal_shift(p, gamma_o_, at.gamma_t) +
+                                  hair::sample_trimmed_logistic(u0.y, s_)
+                            : 2.0 * kPi * u0.y;
+  const double phi_i = azimuth(wo) + dphi;
+  const glm::vec3 wi = glm::normalize(
+      glm::vec3(glm::dvec3(sin_i, cos_i * std::sin(phi_i), cos_i * std::cos(phi_i))));
+
+  // Re-evaluate at the float direction returned so f and pdf match f() and pdf() exactly.
+  const Eval e = eval(wo, wi);
+  if (!(e.pdf > 0.0)) return std::nullopt;
+  return BCSDFSample{wi, glm::vec3(e.f), static_cast<float>(e.pdf)};
+}
+
+}  // namespace plumage

@@ -1,0 +1,132 @@
+// `plumage generate` end to end: files, determinism, previews, and errors that
+// name the problem and exit non-zero without leaving damaged files.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "plumage/common/atomic_file.h"
+#include "plumage/common/curve_format.h"
+#include "plumage/common/error.h"
+#include "plumage/common/image.h"
+#include "plumage/generator/builder.h"
+#include "plumage/generator/presets.h"
+
+using namespace plumage;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CliResult {
+  int rc;
+  std::string output;  // stdout and stderr
+};
+
+CliResult plumage_cli(const std::string& args) {
+  const std::string cmd = std::string(PLUMAGE_CLI) + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return {-1, "popen failed"};
+  std::string out;
+  char buf[4096];
+  while (std::size_t n = fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+class GenerateCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("plumage_generate_cli_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+}  // namespace
+
+TEST_F(GenerateCli, SameSeedSameFileAndTheFileIsTheBuiltFeather) {
+  const std::string preset = "osprey-wing-covert";
+  CliResult r = plumage_cli("generate --preset " + preset + " --seed 5 -o " + path("a.fcurves") + " --preview " +
+                      path("a.png") + " --preview-size 300");
+  ASSERT_EQ(r.rc, 0) << r.output;
+  r = plumage_cli("-q generate --preset " + preset + " --seed 5 -o " + path("b.fcurves"));
+  ASSERT_EQ(r.rc, 0) << r.output;
+  EXPECT_EQ(r.output, "");  // --quiet
+  r = plumage_cli("generate --preset " + preset + " --seed 6 -o " + path("c.fcurves"));
+  ASSERT_EQ(r.rc, 0) << r.output;
+  EXPECT_EQ(read_file(path("a.fcurves")), read_file(path("b.fcurves")));
+  EXPECT_NE(read_file(path("a.fcurves")), read_file(path("c.fcurves")));
+  EXPECT_EQ(read_fcurves(path("a.fcurves")), build_feather(load_preset(preset), 5, "preset:" + preset));
+
+  const Image img = read_image(path("a.png"));
+  EXPECT_EQ(std::max(img.width, img.height), 300);
+}
+
+TEST_F(GenerateCli, ParamsFileAndPrintParamsAgree) {
+  CliResult r = plumage_cli("generate --preset rock-dove-wing --print-params > " + path("p.json"));
+  ASSERT_EQ(r.rc, 0) << r.output;
+  EXPECT_EQ(read_params(path("p.json")), load_preset("rock-dove-wing"));
+  r = plumage_cli("generate --params " + path("p.json") + " --seed 2 -o " + path("p.fcurves"));
+  ASSERT_EQ(r.rc, 0) << r.output;
+  const Feather f = read_fcurves(path("p.fcurves"));
+  EXPECT_EQ(f.provenance.source, "params:" + path("p.json"));
+  EXPECT_EQ(f.curves, build_feather(load_preset("rock-dove-wing"), 2).curves);
+}
+
+TEST_F(GenerateCli, ListsPresets) {
+  const CliResult r = plumage_cli("generate --list-presets");
+  ASSERT_EQ(r.rc, 0) << r.output;
+  for (const char* name : {"osprey-wing-covert", "turkey-vulture-back-covert", "rock-dove-wing"})
+    EXPECT_NE(r.output.find(name), std::string::npos) << r.output;
+}
+
+TEST_F(GenerateCli, BadInputNamesTheProblemAndLeavesNoFile) {
+  // Each run costs a process start, so only the command's own checks go through
+  // the CLI; bad params files are covered in feather_params_test.cpp.
+  write_file_atomic(path("bad.json"), "{\n  \"shaft\": {\"length\": -3}\n}\n");
+  write_file_atomic(path("keep.fcurves"), "old");
+  const struct {
+    std::string args, expect;
+  } cases[] = {
+      {"generate -o " + path("x.fcurves"), "give exactly one of --preset NAME or --params FILE"},
+      {"generate --preset rock-dove-wing", "no output file"},
+      {"generate --layout " + path("layout.json") + " -o " + path("x.fcurves"), "--layout is not yet supported"},
+      {"generate --params " + path("bad.json") + " -o " + path("keep.fcurves"),
+       path("bad.json") + ": shaft.length: value -3 is out of range; allowed [1, 2000] mm"},
+  };
+  for (const auto& c : cases) {
+    const CliResult r = plumage_cli(c.args);
+    EXPECT_EQ(r.rc, 1) << c.args;
+    EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.args << "\n-> " << r.output;
+  }
+  EXPECT_FALSE(fs::exists(path("x.fcurves")));
+  EXPECT_EQ(read_file(path("keep.fcurves")), "old");  // a failed run damages nothing
+}
+
+TEST(GenerateErrors, PresetsAndOutputsNameTheProblem) {
+  try {
+    load_preset("emu");
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown preset 'emu'; known presets: "), std::string::npos) << e.what();
+  }
+  try {
+    read_params("/nonexistent/missing.json");
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.where().file, "/nonexistent/missing.json");
+  }
+  const Feather f = build_feather(load_preset("rock-dove-wing"), 1);
+  EXPECT_NO_THROW(validate_feather(f));  // what the .fcurves reader accepts
+  try {
+    write_fcurves("/nonexistent/dir/x.fcurves", f);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("does not exist"), std::string::npos) << e.what();
+  }
+}

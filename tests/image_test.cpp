@@ -1,0 +1,197 @@
+// Image I/O (image.h): round trips through files, the sRGB transfer curve, and
+// bad input that must end in a plumage::Error naming the file.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <random>
+#include <string>
+
+#include <unistd.h>
+
+#include "plumage/common/atomic_file.h"
+#include "plumage/common/error.h"
+#include "plumage/common/image.h"
+
+using namespace plumage;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A fresh directory per test, removed afterwards.
+class ImageFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("plumage_image_test_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+Image random_image(int w, int h, int c, float lo, float hi, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(lo, hi);
+  Image img(w, h, c);
+  for (float& v : img.pixels) v = u(rng);
+  return img;
+}
+
+// The reference sRGB encoding (IEC 61966-2-1), in double, independent of image.cpp.
+double srgb_encode(double v) {
+  v = std::clamp(v, 0.0, 1.0);
+  return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
+}
+
+void expect_error_naming(const fs::path& file, const std::function<void()>& action) {
+  try {
+    action();
+    ADD_FAILURE() << "no error for " << file;
+  } catch (const Error& e) {
+    EXPECT_EQ(e.where().file, file.string()) << e.what();
+    EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "not a plumage::Error: " << e.what();
+  }
+}
+
+}  // namespace
+
+TEST(Srgb, TransferFunctionsAreInverse) {
+  for (int i = 0; i <= 100000; ++i) {
+    const float v = i / 100000.0f;
+    EXPECT_NEAR(linear_to_srgb(srgb_to_linear(v)), v, 2e-6f) << v;
+    EXPECT_NEAR(srgb_to_linear(linear_to_srgb(v)), v, 2e-6f) << v;
+  }
+}
+
+TEST(Srgb, MatchesTheStandardCurve) {
+  // Spot values of IEC 61966-2-1 and the branch point, from the formula in double.
+  for (float v : {0.0f, 0.001f, 0.0031308f, 0.0032f, 0.04f, 0.18f, 0.5f, 0.99f, 1.0f})
+    EXPECT_NEAR(linear_to_srgb(v), srgb_encode(v), 1e-6) << v;
+  EXPECT_NEAR(linear_to_srgb(0.18f), 0.4614f, 1e-4f);  // middle grey
+  EXPECT_EQ(linear_to_srgb(std::nanf("")), 0.0f);
+  EXPECT_EQ(linear_to_srgb(-1.0f), 0.0f);
+  // Monotone across the linear/power branch point.
+  float prev = -1;
+  for (int i = 0; i <= 10000; ++i) {
+    const float s = linear_to_srgb(i * 1e-6f);
+    EXPECT_GE(s, prev);
+    prev = s;
+  }
+}
+
+TEST_F(ImageFiles, PngRoundTripWithinOneQuantisationStep) {
+  for (int channels : {1, 3, 4}) {
+    const Image img = random_image(37, 23, channels, -0.1f, 1.1f, 7 + channels);
+    const fs::path f = dir_ / ("rt" + std::to_string(channels) + ".png");
+    write_image(f, img);
+    const Image back = read_image(f);
+    ASSERT_EQ(back.width, img.width);
+    ASSERT_EQ(back.height, img.height);
+    ASSERT_EQ(back.channels, img.channels);
+    const int alpha = channels == 4 ? 3 : -1;
+    for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+      const bool is_alpha = int(i % channels) == alpha;
+      // Compared where the file stores them: sRGB-encoded colour, linear alpha, in [0,1].
+      const double want =
+          is_alpha ? std::clamp(double(img.pixels[i]), 0.0, 1.0) : srgb_encode(img.pixels[i]);
+      const double got = is_alpha ? back.pixels[i] : srgb_encode(back.pixels[i]);
+      ASSERT_NEAR(got, want, 0.5 / 255 + 1e-5) << "channels=" << channels << " i=" << i;
+    }
+  }
+}
+
+TEST_F(ImageFiles, PngKeepsRowOrderAndChannels) {
+  Image img(4, 3, 3, 0.0f);
+  img.set_rgb(0, 0, {1, 0, 0});  // top-left red
+  img.set_rgb(3, 2, {0, 0, 1});  // bottom-right blue
+  const fs::path f = dir_ / "order.png";
+  write_image(f, img);
+  const Image back = read_image(f);
+  EXPECT_EQ(back.rgb(0, 0), glm::vec3(1, 0, 0));
+  EXPECT_EQ(back.rgb(3, 2), glm::vec3(0, 0, 1));
+  EXPECT_EQ(back.rgb(1, 1), glm::vec3(0));
+  // Without linearisation the 8-bit codes come back as code/255.
+  const Image raw = read_image(f, false);
+  EXPECT_EQ(raw.rgb(0, 0), glm::vec3(1, 0, 0));
+}
+
+TEST_F(ImageFiles, ExrRoundTripIsBitExact) {
+  for (int channels : {1, 3, 4}) {
+    Image img = random_image(29, 17, channels, -5.0f, 1e4f, 20 + channels);
+    img.pixels[0] = 0.0f;
+    img.pixels[1] = -0.0f;
+    img.pixels[2] = 1e-30f;
+    img.pixels[3] = 3.4e38f;
+    img.pixels[4] = std::numeric_limits<float>::denorm_min();
+    const fs::path f = dir_ / ("rt" + std::to_string(channels) + ".exr");
+    write_image(f, img);
+    const Image back = read_image(f);
+    ASSERT_EQ(back.width, img.width);
+    ASSERT_EQ(back.height, img.height);
+    ASSERT_EQ(back.channels, img.channels);
+    ASSERT_EQ(back.pixels.size(), img.pixels.size());
+    for (std::size_t i = 0; i < img.pixels.size(); ++i)
+      ASSERT_EQ(std::memcmp(&back.pixels[i], &img.pixels[i], sizeof(float)), 0)
+          << "channels=" << channels << " i=" << i << ": " << back.pixels[i] << " vs "
+          << img.pixels[i];
+  }
+}
+
+TEST_F(ImageFiles, BadInputNamesTheFile) {
+  const fs::path missing = dir_ / "missing.png";
+  expect_error_naming(missing, [&] { read_image(missing); });
+
+  const fs::path empty = dir_ / "empty.png";
+  write_file_atomic(empty, "");
+  expect_error_naming(empty, [&] { read_image(empty); });
+
+  const fs::path text = dir_ / "notes.png";
+  write_file_atomic(text, "this is not a PNG, just some text\n");
+  expect_error_naming(text, [&] { read_image(text); });
+
+  const fs::path truncated = dir_ / "truncated.png";
+  write_image(truncated, random_image(64, 64, 3, 0, 1, 3));
+  const std::string bytes = read_file(truncated);
+  write_file_atomic(truncated, bytes.substr(0, bytes.size() / 2));
+  expect_error_naming(truncated, [&] { read_image(truncated); });
+
+  const fs::path folder = dir_ / "folder.png";
+  fs::create_directories(folder);
+  expect_error_naming(folder, [&] { read_image(folder); });
+}
+
+TEST_F(ImageFiles, BadWritesNameTheFileAndLeaveTheOldOneUntouched) {
+  const fs::path f = dir_ / "keep.png";
+  write_image(f, random_image(8, 8, 3, 0, 1, 4));
+  const std::string before = read_file(f);
+
+  Image inconsistent(8, 8, 3);
+  inconsistent.pixels.resize(10);
+  expect_error_naming(f, [&] { write_image(f, inconsistent); });
+  expect_error_naming(f, [&] { write_image(f, Image()); });
+  EXPECT_EQ(read_file(f), before);
+
+  // An extension no writer knows: the writer fails after the temporary is made.
+  const fs::path odd = dir_ / "keep.nosuchformat";
+  write_file_atomic(odd, "precious");
+  expect_error_naming(odd, [&] { write_image(odd, random_image(4, 4, 3, 0, 1, 5)); });
+  EXPECT_EQ(read_file(odd), "precious");
+
+  // A directory that does not exist.
+  const fs::path nowhere = dir_ / "no" / "such" / "dir.png";
+  expect_error_naming(nowhere, [&] { write_image(nowhere, random_image(4, 4, 3, 0, 1, 6)); });
+
+  // No temporaries left behind.
+  int files = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++files;
+  EXPECT_EQ(files, 2);
+}
