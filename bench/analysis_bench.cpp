@@ -12,8 +12,9 @@ namespace fs = std::filesystem;
 using namespace plumage;
 
 static void BM_AnalyzePinkFeatherPhoto(benchmark::State& state) {
-  const fs::path photo = (fs::path(PLUMAGE_DATA_DIR) / ".." / ".." / "shared" / "photos" /
-                          "pink-contour-feather.jpg").lexically_normal();
+  const fs::path photo =
+      (fs::path(PLUMAGE_DATA_DIR) / ".." / ".." / "shared" / "photos" / "pink-contour-feather.jpg")
+          .lexically_normal();
   if (!fs::exists(photo)) {
     state.SkipWithError("shared photos absent");
     return;

@@ -37,7 +37,8 @@ double median(std::vector<double> v) {
 }
 
 // Values of a profile at stations whose confidence passes `min_conf`.
-std::vector<double> confident(const std::vector<double>& v, const std::vector<double>& c, double min_conf) {
+std::vector<double> confident(const std::vector<double>& v, const std::vector<double>& c,
+                              double min_conf) {
   std::vector<double> out;
   for (std::size_t i = 0; i < v.size(); ++i)
     if (c[i] >= min_conf) out.push_back(v[i]);
@@ -50,7 +51,9 @@ double distance_to_segment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
   return glm::length(p - (a + t * ab));
 }
 
-std::string shared_photo(const char* name) { return std::string(PLUMAGE_SHARED_DIR) + "/photos/" + name; }
+std::string shared_photo(const char* name) {
+  return std::string(PLUMAGE_SHARED_DIR) + "/photos/" + name;
+}
 
 }  // namespace
 
@@ -112,10 +115,12 @@ TEST_P(AnalysisSynthetic, RecoversShaftAnglesSpacingAndOutline) {
   for (std::size_t k = 0; k < f.stations_t.size(); ++k) {
     const double y = f.stations_t[k] * F.length;
     if (f.left.width_confidence[k] > 0.9 && F.half_width(y, -1) > 0) {
-      EXPECT_NEAR(f.left.width_mm[k], 0.1 * F.half_width(y, -1), 0.03 * 0.1 * F.length) << "k=" << k;
+      EXPECT_NEAR(f.left.width_mm[k], 0.1 * F.half_width(y, -1), 0.03 * 0.1 * F.length)
+          << "k=" << k;
     }
     if (f.right.width_confidence[k] > 0.9 && F.half_width(y, +1) > 0) {
-      EXPECT_NEAR(f.right.width_mm[k], 0.1 * F.half_width(y, +1), 0.03 * 0.1 * F.length) << "k=" << k;
+      EXPECT_NEAR(f.right.width_mm[k], 0.1 * F.half_width(y, +1), 0.03 * 0.1 * F.length)
+          << "k=" << k;
     }
   }
   EXPECT_GT(median(f.right.width_mm), 1.2 * median(f.left.width_mm));
@@ -133,7 +138,8 @@ TEST_P(AnalysisSynthetic, RecoversShaftAnglesSpacingAndOutline) {
       uni += truth || found;
     }
   EXPECT_GE(double(inter) / uni, 0.97);
-  std::printf("  IoU %.4f, length %.2f mm (true %.2f)\n", double(inter) / uni, f.length_mm, 0.1 * F.length);
+  std::printf("  IoU %.4f, length %.2f mm (true %.2f)\n", double(inter) / uni, f.length_mm,
+              0.1 * F.length);
   double area2 = 0;
   for (std::size_t i = 0; i < f.outline_px.size(); ++i) {
     const auto& a = f.outline_px[i];
@@ -144,8 +150,10 @@ TEST_P(AnalysisSynthetic, RecoversShaftAnglesSpacingAndOutline) {
 }
 
 INSTANTIATE_TEST_SUITE_P(WhiteAndBlack, AnalysisSynthetic,
-                         ::testing::Values(SyntheticCase{false, 38, 9, -62}, SyntheticCase{true, 38, 9, -62},
-                                           SyntheticCase{false, 55, 7, -100}, SyntheticCase{true, 28, 11, -30}));
+                         ::testing::Values(SyntheticCase{false, 38, 9, -62},
+                                           SyntheticCase{true, 38, 9, -62},
+                                           SyntheticCase{false, 55, 7, -100},
+                                           SyntheticCase{true, 28, 11, -30}));
 
 TEST(AnalysisSynthetic, WritesAlbedoLayoutAndOverlayTogether) {
   SyntheticFeather F;
@@ -176,6 +184,64 @@ TEST(AnalysisSynthetic, WritesAlbedoLayoutAndOverlayTogether) {
   std::size_t files = 0;
   for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
   EXPECT_EQ(files, 4u);  // photo, layout, albedo, overlay: no temporaries
+}
+
+// --- extreme inputs: a clean error naming the file, or a layout that passes the
+// strict reader (finite, in range) — never a crash or another exception. -------
+
+TEST(AnalysisStress, ExtremePhotosGiveAnErrorOrAValidLayout) {
+  const fs::path dir = temp_dir("stress");
+  std::vector<std::pair<std::string, Image>> cases;
+  cases.emplace_back("tiny_uniform.png", Image(16, 16, 3, 0.5f));
+  {
+    Image strip(4000, 17, 3, 0.95f);  // a one-pixel ruled line on a long strip
+    for (int x = 0; x < strip.width; ++x) strip.set_rgb(x, 8, glm::vec3(0.1f));
+    cases.emplace_back("strip.png", strip);
+  }
+  {
+    Image noise(300, 300, 3);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    for (float& v : noise.pixels) v = u(rng);
+    cases.emplace_back("noise.png", noise);
+  }
+  {
+    SyntheticFeather F;  // a feather of 40 pixels
+    F.width = 120, F.height = 100, F.calamus = {60, 80}, F.length = 40, F.dir_deg = -90;
+    F.w_left = 6, F.w_right = 8, F.shaft_width = 1.5, F.spacing = 3;
+    cases.emplace_back("tiny_feather.png", F.draw());
+  }
+  {
+    SyntheticFeather F;  // barbs almost across the shaft, at the resolution limit
+    F.theta_deg = 88, F.spacing = 2.5;
+    cases.emplace_back("fine_barbs.png", F.draw());
+  }
+  {
+    SyntheticFeather F;  // barbs almost along the shaft, a hair-thin vane
+    F.theta_deg = 3, F.w_left = 3, F.w_right = 3;
+    cases.emplace_back("thin_vane.png", F.draw());
+  }
+  {
+    SyntheticFeather F;  // barely visible: 3% contrast under noise
+    Image img = F.draw();
+    for (float& v : img.pixels) v = 0.85f + 0.03f * v;
+    cases.emplace_back("faint.png", img);
+  }
+  for (const auto& [name, img] : cases) {
+    const fs::path photo = dir / name;
+    write_image(photo, img);
+    try {
+      const PhotoAnalysis A = analyze_photo(photo, AnalyzeOptions{});
+      const Layout back = parse_layout(layout_to_json(A.layout), name);
+      ASSERT_FALSE(back.feathers.empty()) << name;
+      for (const auto& f : back.feathers) EXPECT_GT(f.length_mm, 0.0) << name;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(photo.string()), std::string::npos)
+          << name << ": " << e.what();
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << name << ": not a plumage::Error: " << e.what();
+    }
+  }
 }
 
 // --- layout.json -----------------------------------------------------------------
@@ -215,10 +281,14 @@ TEST(Layout, RoundTripsAndRejectsBadContentWithItsPath) {
   fails_with(replaced("\"version\": 1", "\"version\": 2"), "/version");
   fails_with(replaced("\"mm_per_px\": 0.1", "\"mm_per_px\": -1"), "/scale/mm_per_px");
   fails_with(replaced("\"source\": \"given\"", "\"source\": \"guessed\""), "/scale/source");
-  fails_with(replaced("\"touches_border\": false", "\"touches_border\": 0"), "/feathers/0/touches_border");
-  fails_with(replaced("\"stations_t\": [", "\"stations_t\": [0.0001,"), "/feathers/0/vanes/left/width_mm");
-  fails_with(replaced("\"barb_angle_deg\": [", "\"barb_angle_deg\": [\"x\","), "/feathers/0/vanes/left/barb_angle_deg");
-  fails_with(replaced("\"file\": \"f.feather1.albedo.png\"", "\"file\": \"../x.png\""), "/feathers/0/albedo/file");
+  fails_with(replaced("\"touches_border\": false", "\"touches_border\": 0"),
+             "/feathers/0/touches_border");
+  fails_with(replaced("\"stations_t\": [", "\"stations_t\": [0.0001,"),
+             "/feathers/0/vanes/left/width_mm");
+  fails_with(replaced("\"barb_angle_deg\": [", "\"barb_angle_deg\": [\"x\","),
+             "/feathers/0/vanes/left/barb_angle_deg");
+  fails_with(replaced("\"file\": \"f.feather1.albedo.png\"", "\"file\": \"../x.png\""),
+             "/feathers/0/albedo/file");
   fails_with(replaced("\"feathers\": [", "\"feathers\": [] , \"x\": ["), "/feathers");
 }
 
@@ -309,8 +379,10 @@ struct CliRun {
 };
 
 CliRun cli(const fs::path& dir, const std::string& args) {
-  const fs::path err = fs::temp_directory_path() / ("plumage_analysis_stderr_" + dir.filename().string());
-  const std::string cmd = std::string("\"") + PLUMAGE_CLI + "\" -q " + args + " 2> \"" + err.string() + "\"";
+  const fs::path err =
+      fs::temp_directory_path() / ("plumage_analysis_stderr_" + dir.filename().string());
+  const std::string cmd =
+      std::string("\"") + PLUMAGE_CLI + "\" -q " + args + " 2> \"" + err.string() + "\"";
   const int status = std::system(cmd.c_str());
   CliRun r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(err)};
   fs::remove(err);
@@ -328,10 +400,12 @@ std::vector<std::string> files_in(const fs::path& dir) {
 void expect_rejected(const fs::path& dir, const fs::path& photo, const std::string& needle,
                      const std::string& extra = "") {
   const auto before = files_in(dir);
-  const CliRun r = cli(dir, "analyze \"" + photo.string() + "\" -o \"" + (dir / "out.json").string() +
-                                "\" --overlay \"" + (dir / "ov.png").string() + "\" " + extra);
+  const CliRun r =
+      cli(dir, "analyze \"" + photo.string() + "\" -o \"" + (dir / "out.json").string() +
+                   "\" --overlay \"" + (dir / "ov.png").string() + "\" " + extra);
   EXPECT_NE(r.rc, 0);
-  EXPECT_NE(r.err.find(photo.string()), std::string::npos) << "error should name the file: " << r.err;
+  EXPECT_NE(r.err.find(photo.string()), std::string::npos)
+      << "error should name the file: " << r.err;
   EXPECT_NE(r.err.find(needle), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one-line error: " << r.err;
   EXPECT_EQ(files_in(dir), before) << "left files behind";
@@ -380,8 +454,8 @@ TEST(AnalysisBadInput, FeatherTouchingTheBorderIsAllowedOnRequest) {
   SyntheticFeather F;
   F.calamus = {250, 760};
   write_image(dir / "cut.png", F.draw());
-  const CliRun ok = cli(dir, "analyze \"" + (dir / "cut.png").string() + "\" -o \"" + (dir / "out.json").string() +
-                                 "\" --allow-border");
+  const CliRun ok = cli(dir, "analyze \"" + (dir / "cut.png").string() + "\" -o \"" +
+                                 (dir / "out.json").string() + "\" --allow-border");
   EXPECT_EQ(ok.rc, 0) << ok.err;
   EXPECT_TRUE(read_layout(dir / "out.json").feathers.at(0).touches_border);
 }
@@ -389,7 +463,8 @@ TEST(AnalysisBadInput, FeatherTouchingTheBorderIsAllowedOnRequest) {
 TEST(AnalysisBadInput, HugeImageIsRefusedBeforeDecoding) {
   const fs::path dir = temp_dir("bad_huge");
   // A PNG header claiming 100000 x 100000 pixels.
-  std::string png("\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR\0\x01\x86\xa0\0\x01\x86\xa0\x08\x02\0\0\0\0\0\0\0", 33);
+  std::string png(
+      "\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR\0\x01\x86\xa0\0\x01\x86\xa0\x08\x02\0\0\0\0\0\0\0", 33);
   write_binary(dir / "huge.png", png);
   expect_rejected(dir, dir / "huge.png", "memory guard");
 }
@@ -398,8 +473,9 @@ TEST(AnalysisBadInput, LargeImageIsAnalysedDownscaled) {
   const fs::path dir = temp_dir("bad_large");
   SyntheticFeather F;
   write_image(dir / "big.png", F.draw());
-  const CliRun r = cli(dir, "analyze \"" + (dir / "big.png").string() + "\" -o \"" + (dir / "out.json").string() +
-                                "\" --mm-per-px 0.1 --max-megapixels 0.2");
+  const CliRun r =
+      cli(dir, "analyze \"" + (dir / "big.png").string() + "\" -o \"" +
+                   (dir / "out.json").string() + "\" --mm-per-px 0.1 --max-megapixels 0.2");
   ASSERT_EQ(r.rc, 0) << r.err;
   const Layout L = read_layout(dir / "out.json");
   EXPECT_LT(L.analysis_downscale, 0.6);
@@ -418,7 +494,8 @@ TEST_P(AnalysisPhotoFormats, GreyAlphaAnd16BitPhotosAreRead) {
   if (name == "alpha.png") write_image(dir / name, F.draw(4));
   if (name == "deep.ppm") {  // 16-bit binary PPM (maxval 65535, big-endian samples)
     const Image rgb = F.draw(3);
-    std::string ppm = "P6\n" + std::to_string(F.width) + " " + std::to_string(F.height) + "\n65535\n";
+    std::string ppm =
+        "P6\n" + std::to_string(F.width) + " " + std::to_string(F.height) + "\n65535\n";
     for (float v : rgb.pixels) {
       const int s = int(std::lround(std::clamp(linear_to_srgb(v), 0.f, 1.f) * 65535));
       ppm += char(s >> 8), ppm += char(s & 255);
@@ -426,14 +503,16 @@ TEST_P(AnalysisPhotoFormats, GreyAlphaAnd16BitPhotosAreRead) {
     write_binary(dir / name, ppm);
   }
   const fs::path out = dir / "out.json";
-  const CliRun r = cli(dir, "analyze \"" + (dir / name).string() + "\" -o \"" + out.string() + "\" --mm-per-px 0.1");
+  const CliRun r = cli(
+      dir, "analyze \"" + (dir / name).string() + "\" -o \"" + out.string() + "\" --mm-per-px 0.1");
   ASSERT_EQ(r.rc, 0) << name << ": " << r.err;
   const Layout L = read_layout(out);
   ASSERT_EQ(L.feathers.size(), 1u) << name;
   EXPECT_NEAR(L.feathers[0].length_mm, 0.1 * F.length, 0.02 * 0.1 * F.length) << name;
 }
 
-INSTANTIATE_TEST_SUITE_P(Formats, AnalysisPhotoFormats, ::testing::Values("grey.png", "alpha.png", "deep.ppm"));
+INSTANTIATE_TEST_SUITE_P(Formats, AnalysisPhotoFormats,
+                         ::testing::Values("grey.png", "alpha.png", "deep.ppm"));
 
 TEST(AnalysisBadInput, BadOptionsLeaveOldFilesAlone) {
   const fs::path dir = temp_dir("bad_options");
@@ -442,8 +521,8 @@ TEST(AnalysisBadInput, BadOptionsLeaveOldFilesAlone) {
   write_image(dir / "f.png", F.draw());
   write_file_atomic(dir / "out.json", "old");
   const auto before = files_in(dir);
-  CliRun r = cli(dir, "analyze \"" + (dir / "f.png").string() + "\" -o \"" + (dir / "out.json").string() +
-                          "\" --feather 2");
+  CliRun r = cli(dir, "analyze \"" + (dir / "f.png").string() + "\" -o \"" +
+                          (dir / "out.json").string() + "\" --feather 2");
   EXPECT_NE(r.rc, 0);
   EXPECT_NE(r.err.find("--feather 2"), std::string::npos) << r.err;
   r = cli(dir, "analyze \"" + (dir / "f.png").string() + "\" -o \"" + (dir / "out.json").string() +
@@ -461,8 +540,9 @@ TEST(AnalysisBadInput, UnwritableOutputLeavesNothingBehind) {
   write_file_atomic(dir / "out.json", "old");
   const auto before = files_in(dir);
   // The overlay cannot be written, so neither the layout nor the albedo may appear.
-  const CliRun r = cli(dir, "analyze \"" + (dir / "f.png").string() + "\" -o \"" + (dir / "out.json").string() +
-                                "\" --overlay \"" + (dir / "no-such-dir" / "ov.png").string() + "\"");
+  const CliRun r =
+      cli(dir, "analyze \"" + (dir / "f.png").string() + "\" -o \"" + (dir / "out.json").string() +
+                   "\" --overlay \"" + (dir / "no-such-dir" / "ov.png").string() + "\"");
   EXPECT_NE(r.rc, 0);
   EXPECT_EQ(files_in(dir), before);
   EXPECT_EQ(read_file(dir / "out.json"), "old");

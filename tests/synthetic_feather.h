@@ -3,9 +3,8 @@
 // and barb spacing: the ground truth for photo-analysis tests and benchmarks.
 #include <algorithm>
 #include <cmath>
-#include <random>
-
 #include <glm/glm.hpp>
+#include <random>
 
 #include "plumage/common/image.h"
 
@@ -42,7 +41,8 @@ struct SyntheticFeather {
     const glm::dvec2 d = p - calamus;
     const double y = glm::dot(d, dir()), x = glm::dot(d, right());
     shade = 1.0;
-    if (y >= 0 && y <= length && std::fabs(x) <= 0.5 * shaft_width * (1.0 - 0.5 * y / length)) return 2;
+    if (y >= 0 && y <= length && std::fabs(x) <= 0.5 * shaft_width * (1.0 - 0.5 * y / length))
+      return 2;
     if (y < 0 || y > length) return 0;
     const int side = x < 0 ? -1 : 1;
     if (std::fabs(x) > half_width(y, side)) return 0;
@@ -58,7 +58,8 @@ struct SyntheticFeather {
   // sRGB-valued picture, 3x3 supersampled, blurred, with Gaussian noise.
   Image draw(int channels = 3) const {
     const glm::vec3 bg = dark_background ? glm::vec3(0.04f) : glm::vec3(0.96f);
-    const glm::vec3 vane = dark_background ? glm::vec3(0.85f, 0.72f, 0.66f) : glm::vec3(0.80f, 0.50f, 0.48f);
+    const glm::vec3 vane =
+        dark_background ? glm::vec3(0.85f, 0.72f, 0.66f) : glm::vec3(0.80f, 0.50f, 0.48f);
     const glm::vec3 rachis(0.55f, 0.18f, 0.10f);
     Image img(width, height, 3);
     for (int y = 0; y < height; ++y)
@@ -89,7 +90,8 @@ struct SyntheticFeather {
         const glm::vec3 c = blurred.rgb(x, y);
         float* p = out.at(x, y);
         if (channels == 1) {
-          p[0] = srgb_to_linear(std::clamp(0.3f * c.x + 0.59f * c.y + 0.11f * c.z + n(rng), 0.f, 1.f));
+          p[0] =
+              srgb_to_linear(std::clamp(0.3f * c.x + 0.59f * c.y + 0.11f * c.z + n(rng), 0.f, 1.f));
           continue;
         }
         for (int k = 0; k < 3; ++k) p[k] = srgb_to_linear(std::clamp(c[k] + n(rng), 0.f, 1.f));

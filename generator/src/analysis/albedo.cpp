@@ -3,7 +3,6 @@
 // and on a light backdrop divided by the backdrop colour (white paper = 1).
 #include <algorithm>
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 #include "plumage/common/image.h"
@@ -30,7 +29,8 @@ AlbedoResult extract_albedo(const cv::Mat& bgr, const Component& f, const glm::d
   AlbedoResult out;
   out.mm_per_texel = tau;
   out.origin_mm = {lo.x - 2 * tau, hi.y + 2 * tau};
-  const int W = int(std::ceil((hi.x - lo.x) / tau)) + 4, H = int(std::ceil((hi.y - lo.y) / tau)) + 4;
+  const int W = int(std::ceil((hi.x - lo.x) / tau)) + 4,
+            H = int(std::ceil((hi.y - lo.y) / tau)) + 4;
 
   // Texel (i, j) -> feather (x0 + i tau, y1 - j tau) -> image: one affine map
   // (texel centres at +0.5 are matched by warpAffine's pixel-centre convention).
@@ -39,7 +39,8 @@ AlbedoResult extract_albedo(const cv::Mat& bgr, const Component& f, const glm::d
   const cv::Matx23d T(ox.x, oy.x, o0.x, ox.y, oy.y, o0.y);
   const cv::Matx23d Tm(ox.x, oy.x, o0.x - f.bbox.x, ox.y, oy.y, o0.y - f.bbox.y);
   cv::Mat tex, mask;
-  cv::warpAffine(bgr, tex, T, cv::Size(W, H), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REPLICATE);
+  cv::warpAffine(bgr, tex, T, cv::Size(W, H), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
+                 cv::BORDER_REPLICATE);
   cv::warpAffine(f.mask, mask, Tm, cv::Size(W, H), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP);
 
   // The shaft is modelled as its own curve, so its colour must not stay in the vane texture.
@@ -76,15 +77,17 @@ AlbedoResult extract_albedo(const cv::Mat& bgr, const Component& f, const glm::d
       for (int x = 0; x < t.cols; ++x)
         if (sm.at<uchar>(y, x) && den.at<float>(y, x) > 1e-3f) {
           const cv::Vec3f v = num.at<cv::Vec3f>(y, x) / den.at<float>(y, x);
-          t.at<cv::Vec3b>(y, x) = cv::Vec3b(cv::saturate_cast<uchar>(v[0]), cv::saturate_cast<uchar>(v[1]),
-                                            cv::saturate_cast<uchar>(v[2]));
+          t.at<cv::Vec3b>(y, x) =
+              cv::Vec3b(cv::saturate_cast<uchar>(v[0]), cv::saturate_cast<uchar>(v[1]),
+                        cv::saturate_cast<uchar>(v[2]));
         }
   }
 
   float lut[256], inv_bg[3];
   for (int i = 0; i < 256; ++i) lut[i] = srgb_to_linear(i / 255.0f);
   for (int c = 0; c < 3; ++c)
-    inv_bg[c] = light_background ? 1.0f / std::max(srgb_to_linear(float(bg[2 - c]) / 255.0f), 1e-3f) : 1.0f;
+    inv_bg[c] =
+        light_background ? 1.0f / std::max(srgb_to_linear(float(bg[2 - c]) / 255.0f), 1e-3f) : 1.0f;
   out.rgba.create(H, W, CV_32FC4);
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {

@@ -6,10 +6,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <opencv2/imgproc.hpp>
 #include <random>
 #include <sstream>
-
-#include <opencv2/imgproc.hpp>
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
@@ -30,7 +29,8 @@ glm::dmat3x2 inverse_affine(const glm::dmat3x2& A) {
 // Feather coordinates (DESIGN §3) from photo pixels: the photo seen as the
 // dorsal side (its y axis flipped up), rotated so the calamus->tip chord is +Y,
 // scaled to mm and moved so the calamus is the origin.
-glm::dmat3x2 feather_from_photo(const glm::dvec2& calamus, const glm::dvec2& tip, double mm_per_px) {
+glm::dmat3x2 feather_from_photo(const glm::dvec2& calamus, const glm::dvec2& tip,
+                                double mm_per_px) {
   const glm::dvec2 qc(calamus.x, -calamus.y), qt(tip.x, -tip.y);
   const glm::dvec2 d = glm::normalize(qt - qc), X(d.y, -d.x);
   const double s = mm_per_px;
@@ -74,6 +74,7 @@ Image to_image_linear(const cv::Mat& bgr) {
 
 }  // namespace
 
+namespace {
 // Accumulates wall time per named stage.
 class StageClock {
  public:
@@ -91,6 +92,14 @@ class StageClock {
   std::vector<std::pair<std::string, double>>& out_;
   std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
+}  // namespace
+
+namespace {
+// Shaft, vanes and albedo of one feather, appended to the layout and the overlay list.
+void analyze_feather(const Photo& photo, const Segmentation& seg, const Component& comp, int k,
+                     const AnalyzeOptions& opt, Layout& L, PhotoAnalysis& out,
+                     std::vector<OverlayFeather>& drawn, StageClock& clock);
+}  // namespace
 
 PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& opt) {
   const Location where{photo_path.string()};
@@ -158,64 +167,86 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
            "or pass --allow-border to analyse it anyway";
       throw Error(where, m.str());
     }
-    const Shaft shaft = trace_shaft(photo.bgr, comp);
-    std::vector<glm::dvec2> pts;
-    for (const auto& p : shaft.path) pts.push_back({p.x, p.y});
-    const BSpline2 shaft_px = fit_spline(pts, 8);
-    clock.lap("shaft");
-    const glm::dvec2 cal = shaft_px.eval(0.0) / ds, tip = shaft_px.eval(1.0) / ds;
-
-    FeatherLayout f;
-    f.id = k;
-    f.bbox_px = {int(std::floor(comp.bbox.x / ds)), int(std::floor(comp.bbox.y / ds)),
-                 int(std::ceil(comp.bbox.width / ds)), int(std::ceil(comp.bbox.height / ds))};
-    std::vector<cv::Point> poly;
-    cv::approxPolyDP(comp.contour, poly, 0.75, true);
-    for (const auto& p : poly) f.outline_px.push_back(glm::dvec2(p.x, p.y) / ds);
-    f.feather_from_image = feather_from_photo(cal, tip, L.scale.mm_per_px);
-    f.image_from_feather = inverse_affine(f.feather_from_image);
-    const glm::dmat3x2 f_from_work(f.feather_from_image[0] / ds, f.feather_from_image[1] / ds,
-                                   f.feather_from_image[2]);
-    std::vector<glm::dvec2> cps;
-    for (const auto& c : shaft_px.control_points()) cps.push_back(apply(f_from_work, c));
-    f.shaft_mm = BSpline2(cps);
-    f.length_mm = spline_length(f.shaft_mm);
-    f.shaft_width_mm = shaft.width_px * mm_per_work_px;
-    f.shaft_confidence = shaft.confidence;
-
-    const VaneMeasure vm = measure_vanes(photo.bgr, comp, shaft_px, shaft.width_px, opt.stations);
-    f.stations_t = vm.t;
-    f.left = to_profile(vm.left, mm_per_work_px);
-    f.right = to_profile(vm.right, mm_per_work_px);
-    clock.lap("vanes");
-    f.touches_border = comp.touches_border;
-    if (comp.touches_border) f.warnings.push_back("touches the image border; the vane may be cut off");
-    if (L.scale.source == ScaleSource::Default) f.warnings.push_back("scale unknown (default used)");
-
-    const AlbedoResult al = extract_albedo(photo.bgr, comp, inverse_affine(f_from_work), f.shaft_mm,
-                                           f.shaft_width_mm, mm_per_work_px, !seg.dark_background,
-                                           seg.background_bgr);
-    f.albedo.width_px = al.rgba.cols;
-    f.albedo.height_px = al.rgba.rows;
-    f.albedo.origin_mm = al.origin_mm;
-    f.albedo.mm_per_texel = al.mm_per_texel;
-    Image tex(al.rgba.cols, al.rgba.rows, 4);
-    std::memcpy(tex.pixels.data(), al.rgba.ptr<float>(0), tex.pixels.size() * sizeof(float));
-    out.albedo.push_back(std::move(tex));
-    clock.lap("albedo");
-    Image mask(comp.mask.cols, comp.mask.rows, 1);
-    for (int y = 0; y < comp.mask.rows; ++y)
-      for (int x = 0; x < comp.mask.cols; ++x) mask.at(x, y)[0] = comp.mask.at<uchar>(y, x) / 255.0f;
-    out.masks.push_back(std::move(mask));
-    for (const auto& w : f.warnings) out.warnings.push_back("feather " + std::to_string(k) + ": " + w);
-
-    drawn.push_back({k, comp.contour, shaft_px, vm, f.length_mm, comp.touches_border});
-    L.feathers.push_back(std::move(f));
+    try {
+      analyze_feather(photo, seg, comp, k, opt, L, out, drawn, clock);
+    } catch (const Error& e) {
+      // Errors from inside a stage do not know the file; name it and the feather.
+      if (!e.where().file.empty()) throw;
+      throw Error(where, "feather " + std::to_string(k) + ": " + e.message());
+    }
   }
-  out.overlay = to_image_linear(draw_overlay(photo.bgr, drawn, mm_per_work_px, L.scale, grid, seg.foreground));
+  out.overlay = to_image_linear(
+      draw_overlay(photo.bgr, drawn, mm_per_work_px, L.scale, grid, seg.foreground));
   clock.lap("overlay");
   return out;
 }
+
+namespace {
+
+void analyze_feather(const Photo& photo, const Segmentation& seg, const Component& comp, int k,
+                     const AnalyzeOptions& opt, Layout& L, PhotoAnalysis& out,
+                     std::vector<OverlayFeather>& drawn, StageClock& clock) {
+  const double ds = photo.downscale;
+  const double mm_per_work_px = L.scale.mm_per_px / ds;
+  const Shaft shaft = trace_shaft(photo.bgr, comp);
+  std::vector<glm::dvec2> pts;
+  for (const auto& p : shaft.path) pts.push_back({p.x, p.y});
+  const BSpline2 shaft_px = fit_spline(pts, 8);
+  clock.lap("shaft");
+  const glm::dvec2 cal = shaft_px.eval(0.0) / ds, tip = shaft_px.eval(1.0) / ds;
+
+  FeatherLayout f;
+  f.id = k;
+  f.bbox_px = {int(std::floor(comp.bbox.x / ds)), int(std::floor(comp.bbox.y / ds)),
+               int(std::ceil(comp.bbox.width / ds)), int(std::ceil(comp.bbox.height / ds))};
+  std::vector<cv::Point> poly;
+  cv::approxPolyDP(comp.contour, poly, 0.75, true);
+  for (const auto& p : poly) f.outline_px.push_back(glm::dvec2(p.x, p.y) / ds);
+  f.feather_from_image = feather_from_photo(cal, tip, L.scale.mm_per_px);
+  f.image_from_feather = inverse_affine(f.feather_from_image);
+  const glm::dmat3x2 f_from_work(f.feather_from_image[0] / ds, f.feather_from_image[1] / ds,
+                                 f.feather_from_image[2]);
+  std::vector<glm::dvec2> cps;
+  for (const auto& c : shaft_px.control_points()) cps.push_back(apply(f_from_work, c));
+  f.shaft_mm = BSpline2(cps);
+  f.length_mm = spline_length(f.shaft_mm);
+  f.shaft_width_mm = shaft.width_px * mm_per_work_px;
+  f.shaft_confidence = shaft.confidence;
+
+  const VaneMeasure vm = measure_vanes(photo.bgr, comp, shaft_px, shaft.width_px, opt.stations);
+  f.stations_t = vm.t;
+  f.left = to_profile(vm.left, mm_per_work_px);
+  f.right = to_profile(vm.right, mm_per_work_px);
+  clock.lap("vanes");
+  f.touches_border = comp.touches_border;
+  if (comp.touches_border)
+    f.warnings.push_back("touches the image border; the vane may be cut off");
+  if (L.scale.source == ScaleSource::Default) f.warnings.push_back("scale unknown (default used)");
+
+  const AlbedoResult al =
+      extract_albedo(photo.bgr, comp, inverse_affine(f_from_work), f.shaft_mm, f.shaft_width_mm,
+                     mm_per_work_px, !seg.dark_background, seg.background_bgr);
+  f.albedo.file = "feather" + std::to_string(k) + ".albedo.png";  // write_analysis prefixes the stem
+  f.albedo.width_px = al.rgba.cols;
+  f.albedo.height_px = al.rgba.rows;
+  f.albedo.origin_mm = al.origin_mm;
+  f.albedo.mm_per_texel = al.mm_per_texel;
+  Image tex(al.rgba.cols, al.rgba.rows, 4);
+  std::memcpy(tex.pixels.data(), al.rgba.ptr<float>(0), tex.pixels.size() * sizeof(float));
+  out.albedo.push_back(std::move(tex));
+  clock.lap("albedo");
+  Image mask(comp.mask.cols, comp.mask.rows, 1);
+  for (int y = 0; y < comp.mask.rows; ++y)
+    for (int x = 0; x < comp.mask.cols; ++x) mask.at(x, y)[0] = comp.mask.at<uchar>(y, x) / 255.0f;
+  out.masks.push_back(std::move(mask));
+  for (const auto& w : f.warnings)
+    out.warnings.push_back("feather " + std::to_string(k) + ": " + w);
+
+  drawn.push_back({k, comp.contour, shaft_px, vm, f.length_mm, comp.touches_border});
+  L.feathers.push_back(std::move(f));
+}
+
+}  // namespace
 
 void write_analysis(PhotoAnalysis& a, const fs::path& layout_path, const fs::path& overlay_path) {
   const fs::path dir = layout_path.parent_path();

@@ -3,7 +3,6 @@
 // background (feathers masked out), refined over many periods.
 #include <algorithm>
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 #include "steps.h"
@@ -96,14 +95,16 @@ GridScale detect_grid(const cv::Mat& bgr, const cv::Mat& feather_mask) {
   cv::Mat gray, keep;
   cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
   const int d = std::max(3, std::min(bgr.cols, bgr.rows) / 100);
-  cv::dilate(feather_mask, keep, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * d + 1, 2 * d + 1)));
+  cv::dilate(feather_mask, keep,
+             cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * d + 1, 2 * d + 1)));
   keep = keep == 0;
   const Period rows = line_period(profile(gray, keep, true));
   const Period cols = line_period(profile(gray, keep, false));
   GridScale g;
   // A square grid shows the same period both ways; a ruler shows it one way,
   // which is accepted only when it is very regular.
-  if (rows.px > 0 && cols.px > 0 && std::fabs(rows.px - cols.px) < 0.05 * std::max(rows.px, cols.px)) {
+  if (rows.px > 0 && cols.px > 0 &&
+      std::fabs(rows.px - cols.px) < 0.05 * std::max(rows.px, cols.px)) {
     g.found = true;
     g.period_px = 0.5 * (rows.px + cols.px);
     g.confidence = std::clamp(std::min(rows.strength, cols.strength), 0.0, 1.0);

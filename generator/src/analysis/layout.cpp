@@ -21,8 +21,8 @@ using ojson = nlohmann::ordered_json;
 ojson vec2(const glm::dvec2& p) { return ojson::array({p.x, p.y}); }
 
 ojson affine(const glm::dmat3x2& A) {
-  return ojson::array({ojson::array({A[0][0], A[1][0], A[2][0]}),
-                       ojson::array({A[0][1], A[1][1], A[2][1]})});
+  return ojson::array(
+      {ojson::array({A[0][0], A[1][0], A[2][0]}), ojson::array({A[0][1], A[1][1], A[2][1]})});
 }
 
 // Pretty-printed with the keys in a reading order, and arrays of numbers (or of
@@ -31,8 +31,8 @@ bool is_flat(const ojson& j) {
   if (!j.is_array()) return false;
   for (const auto& e : j)
     if (!e.is_primitive() && !(e.is_array() && std::all_of(e.begin(), e.end(), [](const ojson& x) {
-          return x.is_primitive();
-        })))
+                                 return x.is_primitive();
+                               })))
       return false;
   return true;
 }
@@ -87,8 +87,8 @@ ojson profile(const VaneProfile& v) {
 struct Reader {
   const std::string& source;
   [[noreturn]] void fail(const std::string& path, const std::string& what) const {
-    throw Error(Location{source}, (path.empty() ? "/" : path) + ": " + what +
-                                      " (see docs/layout-format.md)");
+    throw Error(Location{source},
+                (path.empty() ? "/" : path) + ": " + what + " (see docs/layout-format.md)");
   }
   const json& member(const json& obj, const std::string& path, const char* key) const {
     if (!obj.is_object()) fail(path, "expected an object");
@@ -139,7 +139,8 @@ struct Reader {
     if (!j.is_array() || j.size() < min_n)
       fail(path, "expected an array of at least " + std::to_string(min_n) + " [x, y] points");
     std::vector<glm::dvec2> out;
-    for (std::size_t i = 0; i < j.size(); ++i) out.push_back(point(j[i], path + "/" + std::to_string(i)));
+    for (std::size_t i = 0; i < j.size(); ++i)
+      out.push_back(point(j[i], path + "/" + std::to_string(i)));
     return out;
   }
   glm::dmat3x2 matrix(const json& j, const std::string& path) const {
@@ -157,13 +158,16 @@ struct Reader {
   VaneProfile vane(const json& j, const std::string& path, std::size_t n) const {
     VaneProfile v;
     v.width_mm = numbers(member(j, path, "width_mm"), path + "/width_mm", n, 0.0);
-    v.width_confidence = numbers(member(j, path, "width_confidence"), path + "/width_confidence", n, 0, 1);
-    v.barb_angle_deg = numbers(member(j, path, "barb_angle_deg"), path + "/barb_angle_deg", n, 0, 180);
+    v.width_confidence =
+        numbers(member(j, path, "width_confidence"), path + "/width_confidence", n, 0, 1);
+    v.barb_angle_deg =
+        numbers(member(j, path, "barb_angle_deg"), path + "/barb_angle_deg", n, 0, 180);
     v.barb_angle_confidence =
         numbers(member(j, path, "barb_angle_confidence"), path + "/barb_angle_confidence", n, 0, 1);
-    v.barb_spacing_mm = numbers(member(j, path, "barb_spacing_mm"), path + "/barb_spacing_mm", n, 0.0);
-    v.barb_spacing_confidence =
-        numbers(member(j, path, "barb_spacing_confidence"), path + "/barb_spacing_confidence", n, 0, 1);
+    v.barb_spacing_mm =
+        numbers(member(j, path, "barb_spacing_mm"), path + "/barb_spacing_mm", n, 0.0);
+    v.barb_spacing_confidence = numbers(member(j, path, "barb_spacing_confidence"),
+                                        path + "/barb_spacing_confidence", n, 0, 1);
     return v;
   }
 
@@ -182,11 +186,12 @@ struct Reader {
     f.image_from_feather = matrix(member(tr, p + "/transform", "image_from_feather"),
                                   p + "/transform/image_from_feather");
     const json& sh = member(j, p, "shaft");
-    f.shaft_mm = BSpline2(points(member(sh, p + "/shaft", "control_points_mm"),
-                                 p + "/shaft/control_points_mm", 4));
+    f.shaft_mm = BSpline2(
+        points(member(sh, p + "/shaft", "control_points_mm"), p + "/shaft/control_points_mm", 4));
     f.length_mm = number(member(sh, p + "/shaft", "length_mm"), p + "/shaft/length_mm", 1e-9);
     f.shaft_width_mm = number(member(sh, p + "/shaft", "width_mm"), p + "/shaft/width_mm", 0.0);
-    f.shaft_confidence = number(member(sh, p + "/shaft", "confidence"), p + "/shaft/confidence", 0, 1);
+    f.shaft_confidence =
+        number(member(sh, p + "/shaft", "confidence"), p + "/shaft/confidence", 0, 1);
     f.stations_t = numbers(member(j, p, "stations_t"), p + "/stations_t", 0, 0.0, 1.0);
     if (f.stations_t.empty()) fail(p + "/stations_t", "expected at least one station");
     for (std::size_t i = 1; i < f.stations_t.size(); ++i)
@@ -230,9 +235,12 @@ Location location_of_byte(const std::string& source, const std::string& text, st
 
 const char* to_string(ScaleSource s) {
   switch (s) {
-    case ScaleSource::Given: return "given";
-    case ScaleSource::Grid: return "grid";
-    case ScaleSource::Default: return "default";
+    case ScaleSource::Given:
+      return "given";
+    case ScaleSource::Grid:
+      return "grid";
+    case ScaleSource::Default:
+      return "default";
   }
   return "default";
 }
@@ -244,31 +252,43 @@ std::string layout_to_json(const Layout& L) {
     for (const auto& p : f.outline_px) outline.push_back(vec2(p));
     ojson cps = ojson::array();
     for (const auto& p : f.shaft_mm.control_points()) cps.push_back(vec2(p));
-    feathers.push_back(ojson{
-        {"id", f.id},
-         {"bbox_px", f.bbox_px},
-         {"outline_px", outline},
-         {"transform", {{"feather_from_image", affine(f.feather_from_image)},
-                        {"image_from_feather", affine(f.image_from_feather)}}},
-         {"shaft", {{"control_points_mm", cps}, {"length_mm", f.length_mm},
-                    {"width_mm", f.shaft_width_mm}, {"confidence", f.shaft_confidence}}},
-         {"stations_t", f.stations_t},
-         {"vanes", {{"left", profile(f.left)}, {"right", profile(f.right)}}},
-         {"albedo", {{"file", f.albedo.file}, {"width_px", f.albedo.width_px},
-                     {"height_px", f.albedo.height_px}, {"origin_mm", vec2(f.albedo.origin_mm)},
-                     {"mm_per_texel", f.albedo.mm_per_texel}}},
-         {"touches_border", f.touches_border},
-         {"warnings", f.warnings}});
+    feathers.push_back(ojson{{"id", f.id},
+                             {"bbox_px", f.bbox_px},
+                             {"outline_px", outline},
+                             {"transform",
+                              {{"feather_from_image", affine(f.feather_from_image)},
+                               {"image_from_feather", affine(f.image_from_feather)}}},
+                             {"shaft",
+                              {{"control_points_mm", cps},
+                               {"length_mm", f.length_mm},
+                               {"width_mm", f.shaft_width_mm},
+                               {"confidence", f.shaft_confidence}}},
+                             {"stations_t", f.stations_t},
+                             {"vanes", {{"left", profile(f.left)}, {"right", profile(f.right)}}},
+                             {"albedo",
+                              {{"file", f.albedo.file},
+                               {"width_px", f.albedo.width_px},
+                               {"height_px", f.albedo.height_px},
+                               {"origin_mm", vec2(f.albedo.origin_mm)},
+                               {"mm_per_texel", f.albedo.mm_per_texel}}},
+                             {"touches_border", f.touches_border},
+                             {"warnings", f.warnings}});
   }
-  const ojson doc = {
-      {"format", kFormat},
-      {"version", kVersion},
-      {"image", {{"file", L.source_image}, {"width_px", L.image_width}, {"height_px", L.image_height},
-                 {"analysis_downscale", L.analysis_downscale}, {"background", L.background}}},
-      {"scale", {{"mm_per_px", L.scale.mm_per_px}, {"source", to_string(L.scale.source)},
-                 {"confidence", L.scale.confidence}, {"grid_period_px", L.scale.grid_period_px},
-                 {"grid_mm", L.scale.grid_mm}}},
-      {"feathers", feathers}};
+  const ojson doc = {{"format", kFormat},
+                     {"version", kVersion},
+                     {"image",
+                      {{"file", L.source_image},
+                       {"width_px", L.image_width},
+                       {"height_px", L.image_height},
+                       {"analysis_downscale", L.analysis_downscale},
+                       {"background", L.background}}},
+                     {"scale",
+                      {{"mm_per_px", L.scale.mm_per_px},
+                       {"source", to_string(L.scale.source)},
+                       {"confidence", L.scale.confidence},
+                       {"grid_period_px", L.scale.grid_period_px},
+                       {"grid_mm", L.scale.grid_mm}}},
+                     {"feathers", feathers}};
   std::string out;
   dump(doc, 0, out);
   return out + "\n";
@@ -281,7 +301,8 @@ Layout parse_layout(const std::string& text, const std::string& source) {
   } catch (const json::parse_error& e) {
     std::string what = e.what();
     if (auto k = what.find("parse error at"); k != std::string::npos) {
-      if (auto colon = what.find(": ", k); colon != std::string::npos) what = what.substr(colon + 2);
+      if (auto colon = what.find(": ", k); colon != std::string::npos)
+        what = what.substr(colon + 2);
     }
     throw Error(location_of_byte(source, text, e.byte), "invalid JSON: " + what);
   }
@@ -294,20 +315,25 @@ Layout parse_layout(const std::string& text, const std::string& source) {
   L.source_image = r.string(r.member(im, "/image", "file"), "/image/file");
   L.image_width = r.integer(r.member(im, "/image", "width_px"), "/image/width_px", 1, 1 << 20);
   L.image_height = r.integer(r.member(im, "/image", "height_px"), "/image/height_px", 1, 1 << 20);
-  L.analysis_downscale =
-      r.number(r.member(im, "/image", "analysis_downscale"), "/image/analysis_downscale", 1e-6, 1.0);
+  L.analysis_downscale = r.number(r.member(im, "/image", "analysis_downscale"),
+                                  "/image/analysis_downscale", 1e-6, 1.0);
   L.background = r.string(r.member(im, "/image", "background"), "/image/background");
   if (L.background != "light" && L.background != "dark")
     r.fail("/image/background", "expected \"light\" or \"dark\"");
   const json& sc = r.member(doc, "", "scale");
   L.scale.mm_per_px = r.number(r.member(sc, "/scale", "mm_per_px"), "/scale/mm_per_px", 1e-9, 1e6);
   const std::string src = r.string(r.member(sc, "/scale", "source"), "/scale/source");
-  if (src == "given") L.scale.source = ScaleSource::Given;
-  else if (src == "grid") L.scale.source = ScaleSource::Grid;
-  else if (src == "default") L.scale.source = ScaleSource::Default;
-  else r.fail("/scale/source", "expected \"given\", \"grid\" or \"default\"");
+  if (src == "given")
+    L.scale.source = ScaleSource::Given;
+  else if (src == "grid")
+    L.scale.source = ScaleSource::Grid;
+  else if (src == "default")
+    L.scale.source = ScaleSource::Default;
+  else
+    r.fail("/scale/source", "expected \"given\", \"grid\" or \"default\"");
   L.scale.confidence = r.number(r.member(sc, "/scale", "confidence"), "/scale/confidence", 0, 1);
-  L.scale.grid_period_px = r.number(r.member(sc, "/scale", "grid_period_px"), "/scale/grid_period_px", 0);
+  L.scale.grid_period_px =
+      r.number(r.member(sc, "/scale", "grid_period_px"), "/scale/grid_period_px", 0);
   L.scale.grid_mm = r.number(r.member(sc, "/scale", "grid_mm"), "/scale/grid_mm", 0);
   const json& fs = r.member(doc, "", "feathers");
   if (!fs.is_array() || fs.empty()) r.fail("/feathers", "expected a non-empty array of feathers");

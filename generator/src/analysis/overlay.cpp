@@ -3,18 +3,19 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
-#include <sstream>
-
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 
 #include "steps.h"
 
 namespace plumage::analysis {
 namespace {
 
-void label(cv::Mat& img, const std::string& text, cv::Point at, double scale, const cv::Scalar& colour) {
+void label(cv::Mat& img, const std::string& text, cv::Point at, double scale,
+           const cv::Scalar& colour) {
   const int th = std::max(1, int(std::lround(scale * 1.5)));
-  cv::putText(img, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, cv::Scalar(0, 0, 0), th + 2, cv::LINE_AA);
+  cv::putText(img, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, cv::Scalar(0, 0, 0), th + 2,
+              cv::LINE_AA);
   cv::putText(img, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, th, cv::LINE_AA);
 }
 
@@ -31,8 +32,10 @@ cv::Mat draw_overlay(const cv::Mat& bgr, const std::vector<OverlayFeather>& feat
   const auto px = [g_k](const glm::dvec2& p) {  // working pixels to overlay pixels
     return cv::Point(int(std::lround(g_k * p.x)), int(std::lround(g_k * p.y)));
   };
-  if (g_k < 1.0) cv::resize(bgr, img, cv::Size(), g_k, g_k, cv::INTER_AREA);
-  else img = bgr.clone();
+  if (g_k < 1.0)
+    cv::resize(bgr, img, cv::Size(), g_k, g_k, cv::INTER_AREA);
+  else
+    img = bgr.clone();
   mm_per_px /= g_k;
   const double dim = std::max(img.cols, img.rows);
   const int th = std::max(1, int(std::lround(dim / 900)));
@@ -48,7 +51,8 @@ cv::Mat draw_overlay(const cv::Mat& bgr, const std::vector<OverlayFeather>& feat
     cv::polylines(img, sh, false, red, th + 1, cv::LINE_AA);
     cv::circle(img, sh.front(), 3 * th + 2, blue, cv::FILLED, cv::LINE_AA);
     const glm::dvec2 tip = f.shaft_px.eval(1.0), dir = glm::normalize(f.shaft_px.deriv(1.0));
-    cv::arrowedLine(img, px(tip - dir * (12.0 * th / g_k)), px(tip + dir * (4.0 * th / g_k)), red, th + 1, cv::LINE_AA, 0, 0.5);
+    cv::arrowedLine(img, px(tip - dir * (12.0 * th / g_k)), px(tip + dir * (4.0 * th / g_k)), red,
+                    th + 1, cv::LINE_AA, 0, 0.5);
     // Barb directions at the middle of each side's vane.
     for (std::size_t k = 0; k < f.vanes.t.size(); ++k) {
       const double t = f.vanes.t[k];
@@ -62,8 +66,8 @@ cv::Mat draw_overlay(const cv::Mat& bgr, const std::vector<OverlayFeather>& feat
         const glm::dvec2 b = T * std::cos(a) + N * (side * std::sin(a));
         const glm::dvec2 m = C + N * (side * 0.5 * w);
         const double len = 0.4 * w;
-        cv::line(img, px(m - b * (0.5 * len)), px(m + b * (0.5 * len)), side < 0 ? yellow : cyan, th,
-                 cv::LINE_AA);
+        cv::line(img, px(m - b * (0.5 * len)), px(m + b * (0.5 * len)), side < 0 ? yellow : cyan,
+                 th, cv::LINE_AA);
       }
     }
     std::ostringstream s;
@@ -82,21 +86,27 @@ cv::Mat draw_overlay(const cv::Mat& bgr, const std::vector<OverlayFeather>& feat
     if (c <= target_mm) bar_mm = c;
   const int bar_px = int(std::lround(bar_mm / mm_per_px));
   // Put the bar in the emptiest corner.
-  const cv::Size box(std::min(img.cols, std::max(bar_px, 30 * th) + 20 * th), std::min(img.rows, 24 * th + 20));
+  const cv::Size box(std::min(img.cols, std::max(bar_px, 30 * th) + 20 * th),
+                     std::min(img.rows, 24 * th + 20));
   cv::Point p0;
   double least = 1e300;
   for (int cy : {0, 1})
     for (int cx : {0, 1}) {
-      const cv::Rect r(cx ? img.cols - box.width : 0, cy ? img.rows - box.height : 0, box.width, box.height);
+      const cv::Rect r(cx ? img.cols - box.width : 0, cy ? img.rows - box.height : 0, box.width,
+                       box.height);
       const cv::Rect rb(int(r.x / g_k), int(r.y / g_k), int(r.width / g_k), int(r.height / g_k));
-      const double m = busy.empty() ? 0.0 : cv::mean(busy(rb & cv::Rect(0, 0, busy.cols, busy.rows)))[0];
+      const double m =
+          busy.empty() ? 0.0 : cv::mean(busy(rb & cv::Rect(0, 0, busy.cols, busy.rows)))[0];
       if (m < least - 1e-9) least = m, p0 = cv::Point(r.x + 10 * th, r.y + r.height - 6 * th);
     }
-  cv::rectangle(img, p0 + cv::Point(-4, -4 * th - 4), p0 + cv::Point(bar_px + 4, 4), cv::Scalar(0, 0, 0), cv::FILLED);
+  cv::rectangle(img, p0 + cv::Point(-4, -4 * th - 4), p0 + cv::Point(bar_px + 4, 4),
+                cv::Scalar(0, 0, 0), cv::FILLED);
   cv::rectangle(img, p0 + cv::Point(0, -4 * th), p0 + cv::Point(bar_px, 0), white, cv::FILLED);
   std::ostringstream s;
   s << bar_mm << " mm (" << to_string(scale.source);
-  if (grid.found) s << ", " << std::fixed << std::setprecision(1) << grid.period_px << " px = " << scale.grid_mm << " mm";
+  if (grid.found)
+    s << ", " << std::fixed << std::setprecision(1) << grid.period_px << " px = " << scale.grid_mm
+      << " mm";
   if (scale.source == ScaleSource::Default) s << ", unknown scale";
   s << ")";
   label(img, s.str(), p0 + cv::Point(0, -6 * th - 6), font, white);

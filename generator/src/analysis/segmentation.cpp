@@ -3,7 +3,6 @@
 // filtered by size and thickness so text, labels and rulings are dropped.
 #include <algorithm>
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 #include "steps.h"
@@ -23,8 +22,10 @@ void border_statistics(const cv::Mat& bgr, cv::Vec3d& median, double& sigma) {
   };
   for (int y = 0; y < bgr.rows; ++y)
     for (int x = 0; x < bgr.cols; ++x)
-      if (y < b || y >= bgr.rows - b || x < b || x >= bgr.cols - b) take(x, y);
-      else x = bgr.cols - b - 1;
+      if (y < b || y >= bgr.rows - b || x < b || x >= bgr.cols - b)
+        take(x, y);
+      else
+        x = bgr.cols - b - 1;
   for (int c = 0; c < 3; ++c) {
     auto mid = ch[c].begin() + ch[c].size() / 2;
     std::nth_element(ch[c].begin(), mid, ch[c].end());

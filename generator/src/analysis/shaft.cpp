@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
 #include <opencv2/imgproc.hpp>
 
 #include "plumage/common/error.h"
@@ -152,31 +151,14 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
 }
 
 BSpline2 fit_spline(const std::vector<glm::dvec2>& pts, int ncp) {
-  // TODO(analysis): switch to plumage::fit_bspline when it lands on main.
-  const int N = int(pts.size());
-  if (N < 2) throw Error("too few points to fit a shaft curve");
-  ncp = std::max(4, std::min(ncp, N + 2));
-  std::vector<double> t(N, 0.0);
-  for (int i = 1; i < N; ++i) t[i] = t[i - 1] + glm::length(pts[i] - pts[i - 1]);
-  for (double& v : t) v = t.back() > 0 ? v / t.back() : 0.0;
-  // Weighted least squares; the end points carry a large weight so the curve
-  // starts at the calamus and ends at the tip.
-  cv::Mat A(N, ncp, CV_64F, cv::Scalar(0)), B(N, 2, CV_64F);
-  const BSpline2 probe(std::vector<glm::dvec2>(ncp, glm::dvec2(0)));
-  for (int i = 0; i < N; ++i) {
-    std::size_t seg;
-    double u;
-    probe.locate(t[i], seg, u);
-    const auto b = CubicBSplineBasis::eval(u);
-    const double w = (i == 0 || i == N - 1) ? 1e3 : 1.0;
-    for (int k = 0; k < 4; ++k) A.at<double>(i, int(seg) + k) = w * b[k];
-    B.at<double>(i, 0) = w * pts[i].x;
-    B.at<double>(i, 1) = w * pts[i].y;
-  }
-  cv::Mat X;
-  cv::solve(A, B, X, cv::DECOMP_SVD);
-  std::vector<glm::dvec2> cp(ncp);
-  for (int k = 0; k < ncp; ++k) cp[k] = {X.at<double>(k, 0), X.at<double>(k, 1)};
+  // plumage::fit_bspline (chord-length parameters, ends held) on the plane z = 0.
+  ncp = std::max(4, std::min(ncp, int(pts.size())));
+  if (int(pts.size()) < ncp) throw Error("too few shaft points to fit a curve");
+  std::vector<glm::dvec3> p3;
+  for (const auto& p : pts) p3.emplace_back(p, 0.0);
+  const BSpline3 c = fit_bspline(p3, ncp);
+  std::vector<glm::dvec2> cp;
+  for (const auto& q : c.control_points()) cp.emplace_back(q.x, q.y);
   return BSpline2(cp);
 }
 

@@ -2,10 +2,9 @@
 // The stages of photo analysis, private to generator/src/analysis (OpenCV types).
 // All pixel figures here are in working pixels (the photo after any downscale).
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "plumage/common/bspline.h"
 #include "plumage/generator/analysis/layout.h"
@@ -14,21 +13,22 @@ namespace plumage::analysis {
 
 // photo.cpp -------------------------------------------------------------------
 struct Photo {
-  cv::Mat bgr;                 // 8-bit BGR, working resolution
+  cv::Mat bgr;  // 8-bit BGR, working resolution
   int full_width = 0, full_height = 0;
-  double downscale = 1.0;      // working pixels per photo pixel
+  double downscale = 1.0;  // working pixels per photo pixel
   std::vector<std::string> notes;
 };
 // Reads PNG/JPEG/TIFF/PNM..., 8 or 16 bit, grey, grey+alpha, RGB, RGBA.
-Photo load_photo(const std::filesystem::path& path, double max_megapixels, double refuse_megapixels);
+Photo load_photo(const std::filesystem::path& path, double max_megapixels,
+                 double refuse_megapixels);
 // Width and height from a PNG or JPEG header without decoding; {0,0} if unknown.
 cv::Size peek_image_size(const std::filesystem::path& path);
 
 // segmentation.cpp ------------------------------------------------------------
 struct Component {
-  cv::Rect bbox;                    // in the working image
-  cv::Mat mask;                     // CV_8U 0/255, bbox-sized
-  std::vector<cv::Point> contour;   // working image coordinates
+  cv::Rect bbox;                   // in the working image
+  cv::Mat mask;                    // CV_8U 0/255, bbox-sized
+  std::vector<cv::Point> contour;  // working image coordinates
   double area = 0;
   bool touches_border = false;
 };
@@ -90,7 +90,7 @@ AlbedoResult extract_albedo(const cv::Mat& bgr, const Component& feather,
 struct OverlayFeather {
   int id = 1;
   std::vector<cv::Point> contour;
-  BSpline2 shaft_px;            // working pixels
+  BSpline2 shaft_px;  // working pixels
   VaneMeasure vanes;
   double length_mm = 0;
   bool touches_border = false;

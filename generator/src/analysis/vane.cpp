@@ -4,7 +4,6 @@
 // (spectral) are read per station.
 #include <algorithm>
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 #include "steps.h"
@@ -67,8 +66,8 @@ double median(std::vector<double> v) {
 
 // Barb spacing along the shaft: the dominant period of brightness along lines
 // parallel to the shaft inside the vane, from the averaged periodogram.
-void spacing(const Unrolled& U, int j0, int j1, int side, double w, double shaft_w,
-             double& period, double& conf) {
+void spacing(const Unrolled& U, int j0, int j1, int side, double w, double shaft_w, double& period,
+             double& conf) {
   period = 0, conf = 0;
   const int len = j1 - j0;
   if (len < 24) return;
@@ -141,7 +140,8 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
     double best = 1e300;
     for (std::size_t i = 0; i + 1 < axis.size(); ++i) {
       const glm::dvec2 ab = axis[i + 1] - axis[i];
-      const double t = std::clamp(glm::dot(p - axis[i], ab) / std::max(glm::dot(ab, ab), 1e-12), 0.0, 1.0);
+      const double t =
+          std::clamp(glm::dot(p - axis[i], ab) / std::max(glm::dot(ab, ab), 1e-12), 0.0, 1.0);
       best = std::min(best, glm::length(p - (axis[i] + t * ab)));
     }
     reach = std::max(reach, best);
@@ -161,9 +161,15 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
   for (int j = 0; j < L; ++j) {
     const uchar* m = U.mask.ptr<uchar>(j);
     for (int i = U.gray.cols - 1; i > U.R; --i)
-      if (m[i]) { wr[j] = i - U.R; break; }
+      if (m[i]) {
+        wr[j] = i - U.R;
+        break;
+      }
     for (int i = 0; i < U.R; ++i)
-      if (m[i]) { wl[j] = U.R - i; break; }
+      if (m[i]) {
+        wl[j] = U.R - i;
+        break;
+      }
   }
 
   VaneMeasure out;
@@ -224,8 +230,10 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
         if (!std::isnan((*v)[k])) continue;
         double fill = NAN;
         for (int dk = 1; dk < stations && std::isnan(fill); ++dk) {
-          if (k - dk >= 0 && !std::isnan((*v)[k - dk])) fill = (*v)[k - dk];
-          else if (k + dk < stations && !std::isnan((*v)[k + dk])) fill = (*v)[k + dk];
+          if (k - dk >= 0 && !std::isnan((*v)[k - dk]))
+            fill = (*v)[k - dk];
+          else if (k + dk < stations && !std::isnan((*v)[k + dk]))
+            fill = (*v)[k + dk];
         }
         (*v)[k] = std::isnan(fill) ? (v == &S->angle_deg ? 45.0 : 0.0) : fill;
       }

@@ -25,11 +25,11 @@ struct AnalyzeOptions {
 };
 
 struct PhotoAnalysis {
-  Layout layout;                     // albedo file names are filled in by write_analysis
-  std::vector<Image> albedo;         // per reported feather: linear RGBA, feather coordinates
-  std::vector<Image> masks;          // per reported feather: 1 channel, working resolution
-  Image overlay;                     // linear RGB, working resolution
-  std::vector<std::string> warnings; // also stored per feather in the layout
+  Layout layout;  // albedo files are "featherK.albedo.png" until write_analysis names them
+  std::vector<Image> albedo;          // per reported feather: linear RGBA, feather coordinates
+  std::vector<Image> masks;           // per reported feather: 1 channel, working resolution
+  Image overlay;                      // linear RGB, working resolution
+  std::vector<std::string> warnings;  // also stored per feather in the layout
   std::vector<std::pair<std::string, double>> stage_seconds;  // wall time per stage
 };
 

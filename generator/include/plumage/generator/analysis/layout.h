@@ -4,10 +4,9 @@
 // documented in docs/layout-format.md. This header has no OpenCV in it.
 #include <array>
 #include <filesystem>
+#include <glm/glm.hpp>
 #include <string>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 #include "plumage/common/bspline.h"
 
@@ -20,9 +19,9 @@ const char* to_string(ScaleSource s);
 struct LayoutScale {
   double mm_per_px = 0.1;  // in the photo's own (full-resolution) pixels
   ScaleSource source = ScaleSource::Default;
-  double confidence = 0.0;     // 0..1
-  double grid_period_px = 0;   // detected grid line period, 0 when none
-  double grid_mm = 0;          // the physical grid spacing assumed for it
+  double confidence = 0.0;    // 0..1
+  double grid_period_px = 0;  // detected grid line period, 0 when none
+  double grid_mm = 0;         // the physical grid spacing assumed for it
 };
 
 // A profile sampled at stations along the shaft: t is the fraction of shaft arc
@@ -37,33 +36,33 @@ struct VaneProfile {
 };
 
 struct AlbedoTexture {
-  std::string file;            // PNG next to layout.json (relative name)
+  std::string file;  // PNG next to layout.json (relative name)
   int width_px = 0, height_px = 0;
-  glm::dvec2 origin_mm{0.0};   // feather coordinates of the texture's top-left corner
-  double mm_per_texel = 0.0;   // texel (i,j) centre: origin + ((i+.5)s, -(j+.5)s)
+  glm::dvec2 origin_mm{0.0};  // feather coordinates of the texture's top-left corner
+  double mm_per_texel = 0.0;  // texel (i,j) centre: origin + ((i+.5)s, -(j+.5)s)
 };
 
 struct FeatherLayout {
-  int id = 1;                              // 1-based, as labelled on the overlay
-  std::array<int, 4> bbox_px{};            // mask bounding box x, y, w, h (photo pixels)
-  std::vector<glm::dvec2> outline_px;      // closed polygon, photo pixels
+  int id = 1;                          // 1-based, as labelled on the overlay
+  std::array<int, 4> bbox_px{};        // mask bounding box x, y, w, h (photo pixels)
+  std::vector<glm::dvec2> outline_px;  // closed polygon, photo pixels
   // Feather coordinates (mm, DESIGN §3: calamus at the origin, tip along +Y,
   // dorsal side toward the viewer) from photo pixels: f = A * (u, v, 1).
-  glm::dmat3x2 feather_from_image{1.0};    // glm: 3 columns of 2 rows
+  glm::dmat3x2 feather_from_image{1.0};  // glm: 3 columns of 2 rows
   glm::dmat3x2 image_from_feather{1.0};
-  BSpline2 shaft_mm;                       // calamus (t=0) to tip (t=1), feather coords
-  double length_mm = 0.0;                  // shaft arc length
-  double shaft_width_mm = 0.0;             // at the calamus
+  BSpline2 shaft_mm;            // calamus (t=0) to tip (t=1), feather coords
+  double length_mm = 0.0;       // shaft arc length
+  double shaft_width_mm = 0.0;  // at the calamus
   double shaft_confidence = 0.0;
-  std::vector<double> stations_t;          // shared by both sides
-  VaneProfile left, right;                 // seen from the dorsal side, tip up
+  std::vector<double> stations_t;  // shared by both sides
+  VaneProfile left, right;         // seen from the dorsal side, tip up
   AlbedoTexture albedo;
   bool touches_border = false;
   std::vector<std::string> warnings;
 };
 
 struct Layout {
-  std::string source_image;    // the photo's path as given
+  std::string source_image;               // the photo's path as given
   int image_width = 0, image_height = 0;  // full resolution
   double analysis_downscale = 1.0;        // working pixels per photo pixel (<= 1)
   std::string background;                 // "light" or "dark"
