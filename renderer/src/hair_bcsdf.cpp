@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
 
 #include "hair_terms.h"
 #include "plumage/common/error.h"
@@ -20,8 +21,8 @@ constexpr double kBetaMin = 1e-3;    // below this the lobes are narrower than f
 constexpr double kMaxAlphaDeg = 45;  // 4 alpha (TRT) stays within a half turn
 constexpr float kMinAlbedo = 1e-4f;  // ln(0) would make sigma_a infinite
 
-[[noreturn]] void fail(const std::string& what, const std::string& name, double value,
-                       const std::string& fix) {
+[[noreturn]] void fail(std::string_view what, std::string_view name, double value,
+                       std::string_view fix) {
   std::ostringstream msg;
   msg << what << ": " << name << " = " << value << " " << fix;
   throw Error(msg.str());
@@ -49,7 +50,7 @@ double azimuth(const glm::vec3& w) { return std::atan2(double(w.y), double(w.z))
 
 }  // namespace
 
-void validate(const HairParams& p, const std::string& what) {
+void validate(const HairParams& p, std::string_view what) {
   const auto roughness = [&](const char* name, float beta) {
     if (!(beta > 0.0f && beta <= 1.0f))
       fail(what, name, beta, "is outside (0, 1]; use a roughness between 0.001 and 1");
@@ -111,19 +112,25 @@ HairBCSDF::HairBCSDF(const HairParams& params, float h) : p_(params) {
   v_[1] = 0.25 * v;
   v_[2] = 4.0 * v;
   v_[3] = 4.0 * v;
-  for (int p = 0; p < kLobes; ++p) mp_log_norm_[p] = hair::longitudinal_mp_log_norm(v_[p]);
+  for (int p = 0; p < 3; ++p) mp_log_norm_[p] = hair::longitudinal_mp_log_norm(v_[p]);
+  mp_log_norm_[3] = mp_log_norm_[2];
   s_ = hair::logistic_scale_from_beta_n(p_.beta_n);
   np_norm_ = hair::trimmed_logistic_norm(s_);
 
   // Marschner et al. 2003 Table 1 shifts, in the 2^k alpha form: R by 2 alpha toward
   // the root, TT by alpha and TRT by 4 alpha toward the tip. The shift is applied to
-  // theta_o: the lobe is centred on theta_i = -(theta_o + shift).
+  // theta_o: the lobe is centred on theta_i = -(theta_o + shift). Double-angle formulas
+  // give 2 alpha and 4 alpha from one sin/cos (this runs once per shading point).
   const double alpha = double(p_.alpha_deg) * kPi / 180.0;
-  const double shift[3] = {2.0 * alpha, -alpha, -4.0 * alpha};
-  for (int p = 0; p < 3; ++p) {
-    sin_shift_[p] = std::sin(shift[p]);
-    cos_shift_[p] = std::cos(shift[p]);
-  }
+  const double s1 = std::sin(alpha), c1 = std::cos(alpha);
+  const double s2 = 2.0 * s1 * c1, c2 = c1 * c1 - s1 * s1;
+  const double s4 = 2.0 * s2 * c2, c4 = c2 * c2 - s2 * s2;
+  sin_shift_[0] = s2;
+  cos_shift_[0] = c2;
+  sin_shift_[1] = -s1;
+  cos_shift_[1] = c1;
+  sin_shift_[2] = -s4;
+  cos_shift_[2] = c4;
   gamma_o_ = std::asin(double(h_));
   cos_gamma_o_ = std::sqrt(std::max(0.0, 1.0 - double(h_) * h_));
 }
@@ -171,9 +178,15 @@ HairBCSDF::Attenuation HairBCSDF::attenuation(double sin_o, double cos_o) const 
 // sampling is sum_p w_p Mp Np (Mp Np is a density over solid angle).
 HairBCSDF::Eval HairBCSDF::eval(const glm::vec3& wo, const glm::vec3& wi) const {
   if (!finite(wo) || !finite(wi)) return {glm::dvec3(0.0), 0.0};
+  const Longitude o = longitude(wo);
+  return eval(wo, wi, attenuation(o.sin, o.cos));
+}
+
+HairBCSDF::Eval HairBCSDF::eval(const glm::vec3& wo, const glm::vec3& wi, const Attenuation& at) const {
   const Longitude o = longitude(wo), i = longitude(wi);
-  const double phi = azimuth(wi) - azimuth(wo);
-  const Attenuation at = attenuation(o.sin, o.cos);
+  // phi_i - phi_o from the normal-plane projections: one atan2 instead of two.
+  const double phi = std::atan2(double(wi.y) * wo.z - double(wi.z) * wo.y,
+                                double(wi.z) * wo.z + double(wi.y) * wo.y);
 
   glm::dvec3 f(0.0);
   double pdf = 0.0;
@@ -239,7 +252,7 @@ std::optional<BCSDFSample> HairBCSDF::sample(const glm::vec3& wo, const glm::vec
       glm::vec3(glm::dvec3(sin_i, cos_i * std::sin(phi_i), cos_i * std::cos(phi_i))));
 
   // Re-evaluate at the float direction returned so f and pdf match f() and pdf() exactly.
-  const Eval e = eval(wo, wi);
+  const Eval e = finite(wi) ? eval(wo, wi, at) : Eval{glm::dvec3(0.0), 0.0};
   if (!(e.pdf > 0.0)) return std::nullopt;
   return BCSDFSample{wi, glm::vec3(e.f), static_cast<float>(e.pdf)};
 }

@@ -14,7 +14,7 @@
 // the tip) and TT/TRT toward +x. Model, clamps and references: docs/hair-bcsdf.md.
 #include <cmath>
 #include <optional>
-#include <string>
+#include <string_view>
 
 #include <glm/glm.hpp>
 
@@ -31,7 +31,7 @@ struct HairParams {
 // Throws plumage::Error naming the parameter and its valid range when params are
 // unusable (non-finite, beta outside (0,1], eta < 1, |alpha_deg| > 45, sigma_a < 0).
 // `what` prefixes the message (for example "feather.fcurves:12: barb material").
-void validate(const HairParams& params, const std::string& what = "hair BCSDF");
+void validate(const HairParams& params, std::string_view what = "hair BCSDF");
 
 // The cosine that f is "without": cos of the longitudinal angle of w, i.e. the
 // cosine to the fibre's normal plane, sqrt(1 - w.x^2). Integrate f * bcsdf_cos(wi).
@@ -82,6 +82,7 @@ class HairBCSDF {
   struct Attenuation;
   Attenuation attenuation(double sin_o, double cos_o) const;
   Eval eval(const glm::vec3& wo, const glm::vec3& wi) const;
+  Eval eval(const glm::vec3& wo, const glm::vec3& wi, const Attenuation& at) const;
 
   // Precomputed per-instance terms (double: Mp subtracts terms of size 1/v).
   double v_[4];                                 // longitudinal variances of R, TT, TRT, residual

@@ -1,0 +1,147 @@
+// Renderer throughput: primary rays through the renderer (camera + Scene::intersect
+// + hit record) against bare Embree (rtcIntersect1 alone over the same rays and
+// scene), path-tracing rays per second, and the sampler study (RMSE against a
+// high-spp reference at equal spp, Sobol vs independent). docs/perf/render.md.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <vector>
+
+#include <embree3/rtcore.h>
+
+#include "../tests/render_test_feather.h"
+#include "plumage/common/stats.h"
+#include "plumage/renderer/dome_rig.h"
+#include "plumage/renderer/render.h"
+
+using namespace plumage;
+
+namespace {
+
+constexpr int kRes = 256;
+
+struct BenchScene {
+  Feather feather = test::make_test_feather(60.0f, 0.25f, 0.05f);
+  Scene scene{feather, SceneOptions{ShadingMode::Hair, {true, glm::vec3(0.8f)}}};
+  Camera camera{CameraSpec{}, kRes, kRes, scene.feather_bounds()};
+  std::vector<Ray> rays;
+  BenchScene() {
+    for (int y = 0; y < kRes; ++y)
+      for (int x = 0; x < kRes; ++x) rays.push_back(camera.generate(x + 0.5f, y + 0.5f));
+  }
+};
+BenchScene& bench_scene() {
+  static BenchScene s;
+  return s;
+}
+
+void BM_PrimaryRays_Renderer(benchmark::State& state) {
+  BenchScene& b = bench_scene();
+  std::int64_t hits = 0;
+  for (auto _ : state) {
+    for (int y = 0; y < kRes; ++y)
+      for (int x = 0; x < kRes; ++x) {
+        const Ray r = b.camera.generate(x + 0.5f, y + 0.5f);
+        SurfaceHit hit;
+        hits += b.scene.intersect(r, hit);
+        benchmark::DoNotOptimize(hit);
+      }
+  }
+  state.SetItemsProcessed(state.iterations() * kRes * kRes);
+  state.counters["hit_fraction"] = double(hits) / double(state.iterations() * kRes * kRes);
+}
+BENCHMARK(BM_PrimaryRays_Renderer)->Unit(benchmark::kMillisecond);
+
+void BM_PrimaryRays_BareEmbree(benchmark::State& state) {
+  BenchScene& b = bench_scene();
+  auto scene = static_cast<RTCScene>(b.scene.embree_scene());
+  std::int64_t hits = 0;
+  for (auto _ : state) {
+    for (const Ray& r : b.rays) {
+      RTCIntersectContext ctx;
+      rtcInitIntersectContext(&ctx);
+      RTCRayHit rh{};
+      rh.ray.org_x = r.o.x; rh.ray.org_y = r.o.y; rh.ray.org_z = r.o.z;
+      rh.ray.dir_x = r.d.x; rh.ray.dir_y = r.d.y; rh.ray.dir_z = r.d.z;
+      rh.ray.tnear = 0;
+      rh.ray.tfar = INFINITY;
+      rh.ray.mask = 0xffffffffu;
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(scene, &ctx, &rh);
+      hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+      benchmark::DoNotOptimize(rh);
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * kRes * kRes);
+  state.counters["hit_fraction"] = double(hits) / double(state.iterations() * kRes * kRes);
+}
+BENCHMARK(BM_PrimaryRays_BareEmbree)->Unit(benchmark::kMillisecond);
+
+LightSet dome_all(const Scene& scene) {
+  const DomeRig rig = read_dome_rig(std::string(PLUMAGE_DATA_DIR) + "/rigs/dome25.json");
+  const AxisBox& fb = scene.feather_bounds();
+  LightSet lights;
+  for (const SphereLight& l : dome_lights(rig, parse_light_selection("all", 25), {fb.centre().x, fb.centre().y, fb.lo.z}))
+    lights.add(l);
+  return lights;
+}
+
+// Whole-image path tracing (1 thread so the figure is per core): rays = camera,
+// bounce and shadow rays.
+void BM_PathTrace(benchmark::State& state) {
+  BenchScene& b = bench_scene();
+  const LightSet lights = dome_all(b.scene);
+  const FibreMaterial material(HairParams{}, AlbedoMap(b.feather.albedo, "."));
+  const PathIntegrator integrator(b.scene, lights, material, IntegratorSettings{});
+  const Camera camera(CameraSpec{}, 64, 64, b.scene.feather_bounds());
+  RenderSettings rs;
+  rs.spp = 4;
+  rs.threads = int(state.range(0));
+  rs.progress = false;
+  std::int64_t rays = 0;
+  for (auto _ : state) {
+    stats_reset();
+    benchmark::DoNotOptimize(render(camera, integrator, rs));
+    rays += std::int64_t(stats_snapshot()["Renderer/Rays traced"]);
+  }
+  state.counters["rays_per_s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_PathTrace)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// RMSE of a 48x48 render of the feather under the dome against a 1024-spp
+// Sobol reference, at equal spp for each sampler (arg 0: spp, arg 1: 0 = Sobol, 1 = independent).
+void BM_SamplerRMSE(benchmark::State& state) {
+  BenchScene& b = bench_scene();
+  static const LightSet lights = dome_all(b.scene);
+  static const FibreMaterial material(HairParams{}, AlbedoMap(b.feather.albedo, "."));
+  static const PathIntegrator integrator(b.scene, lights, material, IntegratorSettings{});
+  static const Camera camera(CameraSpec{}, 48, 48, b.scene.feather_bounds());
+  static const Image reference = [] {
+    RenderSettings rs;
+    rs.spp = 1024;
+    rs.seed = 999;
+    rs.progress = false;
+    return render(camera, integrator, rs).developed(0);
+  }();
+  RenderSettings rs;
+  rs.spp = int(state.range(0));
+  rs.sampler = state.range(1) == 0 ? SamplerKind::Sobol : SamplerKind::Independent;
+  rs.progress = false;
+  double se = 0;
+  int runs = 0;
+  for (auto _ : state) {
+    rs.seed = std::uint64_t(runs++);
+    const Image img = render(camera, integrator, rs).developed(0);
+    double s = 0;
+    for (std::size_t i = 0; i < img.pixels.size(); ++i) s += std::pow(double(img.pixels[i]) - reference.pixels[i], 2);
+    se += s / double(img.pixels.size());
+  }
+  state.counters["rmse"] = std::sqrt(se / runs);
+  state.SetLabel(rs.sampler == SamplerKind::Sobol ? "sobol" : "independent");
+}
+BENCHMARK(BM_SamplerRMSE)
+    ->ArgsProduct({{4, 16, 64}, {0, 1}})
+    ->Iterations(4)
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace

@@ -1,0 +1,50 @@
+#pragma once
+// What a fibre hit is made of: the hair BCSDF's roughness, tilt and index from the
+// command line, and an absorption sigma_a that comes from the feather's albedo
+// (constant, or its texture through the rect mapping; Chiang et al. 2016 eq. 9) or
+// is given directly (e.g. from melanin concentrations).
+#include <filesystem>
+#include <optional>
+
+#include <glm/glm.hpp>
+
+#include "plumage/common/feather.h"
+#include "plumage/common/image.h"
+#include "plumage/renderer/hair_bcsdf.h"
+
+namespace plumage {
+
+// The feather's albedo as a function of position in the XY plane.
+class AlbedoMap {
+ public:
+  // A texture path is resolved against `base_dir` (the curve file's folder); throws
+  // plumage::Error naming the texture when it cannot be read or the rect is empty.
+  AlbedoMap(const Albedo& albedo, const std::filesystem::path& base_dir);
+  explicit AlbedoMap(const glm::vec3& constant = glm::vec3(0.5f));
+
+  bool textured() const { return !image_.empty(); }
+  // Linear RGB at a point (the texture is clamped at its edges; bilinear).
+  glm::vec3 at(const glm::vec2& xy) const;
+
+ private:
+  glm::vec3 constant_;
+  Image image_;
+  glm::vec2 rect_min_{0}, rect_max_{1};
+};
+
+class FibreMaterial {
+ public:
+  // Absorption from the albedo map.
+  FibreMaterial(const HairParams& params, AlbedoMap albedo);
+  // Absorption fixed to params.sigma_a everywhere.
+  explicit FibreMaterial(const HairParams& params);
+
+  HairParams at(const glm::vec3& p) const;
+
+ private:
+  HairParams params_;
+  std::optional<AlbedoMap> albedo_;
+  glm::vec3 constant_sigma_a_;
+};
+
+}  // namespace plumage

@@ -1,0 +1,27 @@
+#pragma once
+// The film: per-pixel mean of the radiance samples, then exposure (a factor
+// 2^exposure) on the way out. EXR keeps linear floats; PNG is sRGB (write_image).
+#include <filesystem>
+
+#include <glm/glm.hpp>
+
+#include "plumage/common/image.h"
+
+namespace plumage {
+
+class Film {
+ public:
+  Film(int width, int height);
+  // Each pixel is written by one tile only, so no locking.
+  void set(int x, int y, const glm::vec3& mean_radiance) { image_.set_rgb(x, y, mean_radiance); }
+  int width() const { return image_.width; }
+  int height() const { return image_.height; }
+  // The image scaled by 2^exposure.
+  Image developed(float exposure) const;
+  void write(const std::filesystem::path& path, float exposure) const;
+
+ private:
+  Image image_;
+};
+
+}  // namespace plumage

@@ -1,0 +1,49 @@
+#pragma once
+// Unidirectional path tracing (Kajiya 1986) with next-event estimation and
+// multiple importance sampling between light sampling and BCSDF sampling (Veach &
+// Guibas 1995, power heuristic), and Russian roulette. Fibres are shaded with the
+// hair BCSDF in their own frame; the backdrop is a two-sided lambertian card.
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "plumage/renderer/fibre_material.h"
+#include "plumage/renderer/light_set.h"
+#include "plumage/renderer/sampler.h"
+#include "plumage/renderer/scene.h"
+
+namespace plumage {
+
+struct IntegratorSettings {
+  int max_depth = 16;  // scattering events; 1 = direct lighting only
+  int rr_depth = 3;    // Russian roulette from this many bounces on
+};
+
+// Per-thread tallies, added to the global StatCounters once per tile.
+struct PathCounters {
+  std::int64_t rays = 0, shadow_rays = 0, hits = 0, bad_samples = 0;
+};
+
+class PathIntegrator {
+ public:
+  PathIntegrator(const Scene& scene, const LightSet& lights, const FibreMaterial& material,
+                 const IntegratorSettings& settings);
+
+  // Radiance arriving along -ray.d at ray.o. Non-finite or negative estimates are
+  // counted in `counters.bad_samples` and returned as zero.
+  glm::vec3 Li(Ray ray, PixelSampler& sampler, PathCounters& counters) const;
+
+ private:
+  const Scene& scene_;
+  const LightSet& lights_;
+  const FibreMaterial& material_;
+  IntegratorSettings settings_;
+};
+
+// Veach's power heuristic (beta = 2) for one sample of each of two strategies.
+inline float power_heuristic(float pdf_a, float pdf_b) {
+  const float a = pdf_a * pdf_a, b = pdf_b * pdf_b;
+  return a + b > 0 ? a / (a + b) : 0.0f;
+}
+
+}  // namespace plumage

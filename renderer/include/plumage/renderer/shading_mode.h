@@ -1,0 +1,16 @@
+#pragma once
+// How barbs are turned into Embree geometry and shaded (DESIGN §4-5).
+//   Hair:         each barb is a ray-facing flat ribbon shaded as one hair fibre.
+//   Substructure: each barb is a normal-oriented ribbon in the vane whose (u, v)
+//                 locate rami and barbules (issue 5; not implemented yet).
+#include <string>
+
+namespace plumage {
+
+enum class ShadingMode { Hair, Substructure };
+
+const char* to_string(ShadingMode m);
+// "hair" or "substructure"; throws plumage::Error otherwise.
+ShadingMode parse_shading_mode(const std::string& s);
+
+}  // namespace plumage

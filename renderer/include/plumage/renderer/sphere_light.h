@@ -1,0 +1,32 @@
+#pragma once
+// A small spherical area light of uniform radiance (one LED of the dome rig).
+#include <optional>
+
+#include <glm/glm.hpp>
+
+namespace plumage {
+
+struct SphereLight {
+  glm::vec3 centre{0};
+  float radius = 1;      // mm
+  glm::vec3 radiance{1}; // W / (mm^2 sr), the same from every point and direction
+
+  // Radiance that gives radiant intensity I (W/sr) toward any direction: I = L pi r^2.
+  static glm::vec3 radiance_for_intensity(const glm::vec3& intensity, float radius);
+};
+
+struct SphereSample {
+  glm::vec3 wi;  // unit direction from the shading point to the light
+  float dist;    // distance to the light's surface along wi
+  float pdf;     // solid-angle pdf
+};
+
+// Uniform sampling of the cone the sphere subtends from p (solid-angle sampling).
+// nullopt when p is inside the sphere.
+std::optional<SphereSample> sample_sphere_light(const SphereLight& l, const glm::vec3& p, const glm::vec2& u);
+// The solid-angle pdf sample_sphere_light gives a direction that hits the sphere.
+float sphere_light_pdf(const SphereLight& l, const glm::vec3& p);
+// Distance along a unit direction to the sphere's near side, or nullopt.
+std::optional<float> intersect_sphere(const SphereLight& l, const glm::vec3& o, const glm::vec3& d);
+
+}  // namespace plumage

@@ -1,0 +1,51 @@
+#include "plumage/renderer/fibre_material.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "plumage/common/error.h"
+
+namespace plumage {
+
+AlbedoMap::AlbedoMap(const glm::vec3& constant) : constant_(constant) {}
+
+AlbedoMap::AlbedoMap(const Albedo& albedo, const std::filesystem::path& base_dir) : constant_(albedo.color) {
+  if (albedo.texture.empty()) return;
+  std::filesystem::path path = albedo.texture;
+  if (path.is_relative()) path = base_dir / path;
+  const glm::vec2 size = albedo.rect_max - albedo.rect_min;
+  if (!(size.x > 0 && size.y > 0))
+    throw Error(Location{path.string()}, "the albedo texture's rect is empty (rect_max must exceed rect_min in x and y)");
+  image_ = read_image(path);
+  rect_min_ = albedo.rect_min;
+  rect_max_ = albedo.rect_max;
+}
+
+glm::vec3 AlbedoMap::at(const glm::vec2& xy) const {
+  if (image_.empty()) return constant_;
+  // Texture (0,0) at rect_min, v growing toward rect_max.y; image row 0 is the top, i.e. rect_max.y.
+  const glm::vec2 uv = (xy - rect_min_) / (rect_max_ - rect_min_);
+  const float fx = std::clamp(uv.x, 0.0f, 1.0f) * float(image_.width) - 0.5f;
+  const float fy = (1.0f - std::clamp(uv.y, 0.0f, 1.0f)) * float(image_.height) - 0.5f;
+  const int x0 = std::clamp(int(std::floor(fx)), 0, image_.width - 1), x1 = std::min(x0 + 1, image_.width - 1);
+  const int y0 = std::clamp(int(std::floor(fy)), 0, image_.height - 1), y1 = std::min(y0 + 1, image_.height - 1);
+  const float tx = std::clamp(fx - float(x0), 0.0f, 1.0f), ty = std::clamp(fy - float(y0), 0.0f, 1.0f);
+  const glm::vec3 top = glm::mix(image_.rgb(x0, y0), image_.rgb(x1, y0), tx);
+  const glm::vec3 bottom = glm::mix(image_.rgb(x0, y1), image_.rgb(x1, y1), tx);
+  return glm::clamp(glm::mix(top, bottom, ty), glm::vec3(0.0f), glm::vec3(1.0f));
+}
+
+FibreMaterial::FibreMaterial(const HairParams& params, AlbedoMap albedo)
+    : params_(params), albedo_(std::move(albedo)),
+      constant_sigma_a_(sigma_a_from_albedo(albedo_->at({0, 0}), params.beta_n)) {}
+
+FibreMaterial::FibreMaterial(const HairParams& params) : params_(params), constant_sigma_a_(params.sigma_a) {}
+
+HairParams FibreMaterial::at(const glm::vec3& p) const {
+  HairParams hp = params_;
+  hp.sigma_a = albedo_ && albedo_->textured() ? sigma_a_from_albedo(albedo_->at({p.x, p.y}), params_.beta_n)
+                                              : constant_sigma_a_;
+  return hp;
+}
+
+}  // namespace plumage

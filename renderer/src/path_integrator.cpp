@@ -1,0 +1,156 @@
+#include "plumage/renderer/path_integrator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "plumage/renderer/fibre_frame.h"
+
+namespace plumage {
+namespace {
+constexpr float kPi = std::numbers::pi_v<float>;
+
+bool finite_nonneg(const glm::vec3& c) {
+  return std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z) && c.x >= 0 && c.y >= 0 && c.z >= 0;
+}
+
+// How a hit scatters light, in a form both shading models share.
+struct Scatter {
+  virtual ~Scatter() = default;
+  // f(wo, wi) times the projection cosine, and the pdf sample() would give wi.
+  virtual glm::vec3 f_cos(const glm::vec3& wi, float* pdf) const = 0;
+  // A direction, its throughput weight f cos / pdf and pdf; false when none.
+  virtual bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const = 0;
+};
+
+// Lambertian card, seen from either side.
+struct DiffuseScatter final : Scatter {
+  glm::vec3 n, albedo;
+  DiffuseScatter(const glm::vec3& normal, const glm::vec3& wo, const glm::vec3& a)
+      : n(glm::dot(normal, wo) < 0 ? -normal : normal), albedo(a) {}
+  glm::vec3 f_cos(const glm::vec3& wi, float* pdf) const override {
+    const float c = glm::dot(wi, n);
+    *pdf = c > 0 ? c / kPi : 0.0f;
+    return c > 0 ? albedo * (c / kPi) : glm::vec3(0);
+  }
+  bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const override {
+    // Cosine-weighted hemisphere (Malley's method).
+    const float r = std::sqrt(u.x), phi = 2 * kPi * u.y;
+    const float z = std::sqrt(std::fmax(0.0f, 1.0f - u.x));
+    const Frame f = frame_from_normal(n);
+    *wi = glm::normalize(f.to_world({r * std::cos(phi), r * std::sin(phi), z}));
+    *pdf = z / kPi;
+    *weight = albedo;
+    return z > 0;
+  }
+};
+
+// A fibre hit: the hair BCSDF in the fibre frame. Its cosine is that of the
+// longitudinal angle, cos(theta_i) = sqrt(1 - wi.x^2) (Chiang et al. 2016 eq. 2; bcsdf_cos).
+struct FibreScatter final : Scatter {
+  FibreFrame ff;
+  HairBCSDF bcsdf;
+  glm::vec3 wo_local;
+  FibreScatter(const FibreFrame& frame, const HairParams& params, const glm::vec3& wo)
+      : ff(frame), bcsdf(params, frame.h), wo_local(frame.frame.to_local(wo)) {}
+  glm::vec3 f_cos(const glm::vec3& wi, float* pdf) const override {
+    const glm::vec3 wl = ff.frame.to_local(wi);
+    *pdf = bcsdf.pdf(wo_local, wl);
+    return bcsdf.f(wo_local, wl) * bcsdf_cos(wl);
+  }
+  bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const override {
+    const auto s = bcsdf.sample(wo_local, {u.x, u.y}, {u.z, u.w});
+    if (!s || !(s->pdf > 0)) return false;
+    *wi = glm::normalize(ff.frame.to_world(s->wi));
+    *pdf = s->pdf;
+    *weight = s->f * (bcsdf_cos(s->wi) / s->pdf);
+    return true;
+  }
+};
+
+}  // namespace
+
+PathIntegrator::PathIntegrator(const Scene& scene, const LightSet& lights, const FibreMaterial& material,
+                               const IntegratorSettings& settings)
+    : scene_(scene), lights_(lights), material_(material), settings_(settings) {}
+
+glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& counters) const {
+  glm::vec3 L(0), beta(1);
+  float prev_pdf = 0;      // pdf of the BCSDF sample that made `ray`
+  bool from_camera = true; // no MIS for what the camera sees directly
+  for (int depth = 0;; ++depth) {
+    SurfaceHit hit;
+    const bool found = scene_.intersect(ray, hit);
+    ++counters.rays;
+    // Secondary rays start behind their true origin (Scene::spawn); lights are
+    // intersected from the true origin so their pdfs match light sampling.
+    const glm::vec3 origin = ray.o + ray.tnear * ray.d;
+    const float surface_t = found ? hit.t - ray.tnear : std::numeric_limits<float>::infinity();
+    if (auto lh = lights_.intersect_spheres(origin, ray.d, surface_t)) {
+      const float w = from_camera ? 1.0f : power_heuristic(prev_pdf, lh->pdf);
+      L += beta * lh->Le * w;
+      break;
+    }
+    if (!found) {
+      float pdf_env = 0;
+      const glm::vec3 Le = lights_.environment_Le(ray.d, &pdf_env);
+      const float w = from_camera ? 1.0f : power_heuristic(prev_pdf, pdf_env);
+      L += beta * Le * w;
+      break;
+    }
+    ++counters.hits;
+    if (depth >= settings_.max_depth) break;
+
+    const glm::vec3 wo = -ray.d;
+    std::optional<DiffuseScatter> diffuse;
+    std::optional<FibreScatter> fibre;
+    const Scatter* bsdf;
+    if (hit.kind == HitKind::Backdrop) {
+      bsdf = &diffuse.emplace(safe_normalize(hit.ng), wo, scene_.options().backdrop.albedo);
+    } else {
+      const CurvePoint cp = scene_.curve_point(hit);
+      const FibreFrame ff = hit.kind == HitKind::Barb ? flat_fibre_frame(cp.dp, wo, hit.v)
+                                                      : round_fibre_frame(cp.dp, wo, cp.p, cp.radius, hit.p);
+      bsdf = &fibre.emplace(ff, material_.at(hit.p), wo);
+    }
+
+    // Next-event estimation: one light, one shadow ray.
+    const glm::vec4 ul = sampler.next4();
+    if (auto ls = lights_.sample(hit.p, ul.x, {ul.y, ul.z})) {
+      float pdf_bsdf = 0;
+      const glm::vec3 fc = bsdf->f_cos(ls->wi, &pdf_bsdf);
+      if (ls->pdf > 0 && (fc.x > 0 || fc.y > 0 || fc.z > 0)) {
+        Ray shadow = scene_.spawn(hit, ls->wi, ls->dist * (1.0f - 1e-4f));
+        ++counters.shadow_rays;
+        if (!scene_.occluded(shadow)) {
+          const float w = ls->delta ? 1.0f : power_heuristic(ls->pdf, pdf_bsdf);
+          L += beta * fc * ls->Le * (w / ls->pdf);
+        }
+      }
+    }
+
+    // Continue the path by sampling the BCSDF.
+    const glm::vec4 ub = sampler.next4();
+    glm::vec3 wi, weight;
+    float pdf;
+    if (!bsdf->sample(ub, &wi, &weight, &pdf)) break;
+    beta *= weight;
+    prev_pdf = pdf;
+    from_camera = false;
+    if (depth + 1 >= settings_.rr_depth) {
+      // Russian roulette on the throughput, unbiased by the 1/q boost.
+      const float q = std::fmin(0.95f, std::max({beta.x, beta.y, beta.z}));
+      if (!(ul.w < q)) break;
+      beta /= q;
+    }
+    if (!(beta.x > 0 || beta.y > 0 || beta.z > 0)) break;
+    ray = scene_.spawn(hit, wi);
+  }
+  if (!finite_nonneg(L)) {
+    ++counters.bad_samples;
+    return glm::vec3(0);
+  }
+  return L;
+}
+
+}  // namespace plumage

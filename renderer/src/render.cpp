@@ -1,0 +1,71 @@
+#include "plumage/renderer/render.h"
+
+#include <algorithm>
+#include <chrono>
+#include <string>
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "plumage/common/error.h"
+#include "plumage/common/progress.h"
+#include "plumage/common/stats.h"
+
+namespace plumage {
+namespace {
+StatCounter g_rays("Renderer/Rays traced");
+StatCounter g_shadow_rays("Renderer/Shadow rays");
+StatCounter g_hits("Renderer/Ray hits");
+StatCounter g_bad("Renderer/NaN or Inf samples dropped");
+StatCounter g_samples("Renderer/Camera samples");
+}  // namespace
+
+Film render(const Camera& camera, const PathIntegrator& integrator, const RenderSettings& settings) {
+  if (settings.spp < 1) throw Error("--spp must be at least 1");
+  if (settings.threads < 0) throw Error("--threads must be 0 (all cores) or more");
+  if (settings.tile_size < 1) throw Error("tile size must be at least 1");
+  const int W = camera.width(), H = camera.height(), T = settings.tile_size;
+  const int tiles_x = (W + T - 1) / T, tiles_y = (H + T - 1) / T;
+  Film film(W, H);
+  ProgressBar progress("Rendering", std::uint64_t(tiles_x) * tiles_y, !settings.progress);
+
+  const auto start = std::chrono::steady_clock::now();
+  auto render_tile = [&](int tx, int ty) {
+    PixelSampler sampler(settings.sampler, settings.seed);
+    PathCounters counters;
+    for (int y = ty * T; y < std::min(H, (ty + 1) * T); ++y)
+      for (int x = tx * T; x < std::min(W, (tx + 1) * T); ++x) {
+        glm::dvec3 sum(0);
+        for (int s = 0; s < settings.spp; ++s) {
+          sampler.start(x, y, std::uint32_t(s));
+          const glm::vec4 u = sampler.next4();
+          const Ray ray = camera.generate(float(x) + u.x, float(y) + u.y);
+          sum += glm::dvec3(integrator.Li(ray, sampler, counters));
+        }
+        film.set(x, y, glm::vec3(sum / double(settings.spp)));
+      }
+    g_rays += counters.rays + counters.shadow_rays;
+    g_shadow_rays += counters.shadow_rays;
+    g_hits += counters.hits;
+    g_bad += counters.bad_samples;
+    progress.advance();
+  };
+
+  tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1), [&](const tbb::blocked_range2d<int>& r) {
+      for (int ty = r.rows().begin(); ty != r.rows().end(); ++ty)
+        for (int tx = r.cols().begin(); tx != r.cols().end(); ++tx) render_tile(tx, ty);
+    });
+  });
+  progress.finish();
+  g_samples += std::int64_t(W) * H * settings.spp;
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  stats_set_value("Time/Render (s)", seconds);
+  stats_set_value("Renderer/Rays per second", seconds > 0 ? double(g_rays.value()) / seconds : 0.0);
+  return film;
+}
+
+}  // namespace plumage

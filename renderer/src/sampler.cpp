@@ -1,0 +1,108 @@
+#include "plumage/renderer/sampler.h"
+
+#include <array>
+
+#include "plumage/common/error.h"
+
+namespace plumage {
+namespace {
+
+// 32-bit Sobol direction numbers for dimensions 0..3. Dimension 0 is the van der
+// Corput sequence; the others come from the primitive polynomials and initial
+// numbers m_k of Joe & Kuo (2008): (s=1, a=0, m=1), (s=2, a=1, m=1,3), (s=3, a=1, m=1,3,1).
+struct SobolMatrices {
+  std::array<std::array<std::uint32_t, 32>, 4> v{};
+  SobolMatrices() {
+    for (int k = 0; k < 32; ++k) v[0][k] = 1u << (31 - k);
+    struct Poly { int s; unsigned a; std::array<unsigned, 3> m; };
+    const Poly polys[3] = {{1, 0, {1, 0, 0}}, {2, 1, {1, 3, 0}}, {3, 1, {1, 3, 1}}};
+    for (int d = 1; d < 4; ++d) {
+      const Poly& p = polys[d - 1];
+      auto& V = v[d];
+      for (int k = 0; k < p.s; ++k) V[k] = p.m[k] << (31 - k);
+      for (int k = p.s; k < 32; ++k) {
+        V[k] = V[k - p.s] ^ (V[k - p.s] >> p.s);
+        for (int j = 1; j < p.s; ++j)
+          if ((p.a >> (p.s - 1 - j)) & 1u) V[k] ^= V[k - j];
+      }
+    }
+  }
+};
+const SobolMatrices kSobol;
+
+std::uint32_t reverse_bits(std::uint32_t x) {
+  x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+  x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+  x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+  x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
+  return (x >> 16) | (x << 16);
+}
+
+// Burley 2020 eq. (listing 2): a hash that only lets lower bits affect higher ones,
+// so applied to bit-reversed values it is a nested uniform (Owen) scramble.
+std::uint32_t laine_karras_permutation(std::uint32_t x, std::uint32_t seed) {
+  x += seed;
+  x ^= x * 0x6c50b47cu;
+  x ^= x * 0xb82f1e52u;
+  x ^= x * 0xc7afe638u;
+  x ^= x * 0x8d22f6e6u;
+  return x;
+}
+
+// Top 24 bits as a float in [0, 1) (a float cannot hold more below 1).
+float to_unit(std::uint32_t x) { return float(x >> 8) * 0x1p-24f; }
+
+}  // namespace
+
+const char* to_string(SamplerKind k) { return k == SamplerKind::Sobol ? "sobol" : "independent"; }
+
+SamplerKind parse_sampler_kind(const std::string& s) {
+  if (s == "sobol") return SamplerKind::Sobol;
+  if (s == "independent") return SamplerKind::Independent;
+  throw Error("unknown sampler '" + s + "': use 'sobol' or 'independent'");
+}
+
+std::uint32_t nested_uniform_scramble(std::uint32_t x, std::uint32_t seed) {
+  return reverse_bits(laine_karras_permutation(reverse_bits(x), seed));
+}
+
+std::uint32_t sobol(std::uint32_t i, int d) {
+  std::uint32_t x = 0;
+  for (int k = 0; i; i >>= 1, ++k)
+    if (i & 1u) x ^= kSobol.v[d][k];
+  return x;
+}
+
+std::uint32_t hash_combine(std::uint32_t a, std::uint32_t b) {
+  // murmur3-style finaliser over the pair.
+  std::uint32_t h = a * 0x9e3779b9u ^ (b + 0x7f4a7c15u + (a << 6) + (a >> 2));
+  h ^= h >> 16;
+  h *= 0x85ebca6bu;
+  h ^= h >> 13;
+  h *= 0xc2b2ae35u;
+  h ^= h >> 16;
+  return h;
+}
+
+void PixelSampler::start(int x, int y, std::uint32_t index) {
+  pixel_seed_ = hash_combine(hash_combine(seed_, std::uint32_t(x)), std::uint32_t(y));
+  index_ = index;
+  pattern_ = 0;
+}
+
+glm::vec4 PixelSampler::next4() {
+  const std::uint32_t pattern_seed = hash_combine(pixel_seed_, pattern_++);
+  glm::vec4 out;
+  if (kind_ == SamplerKind::Sobol) {
+    // Burley 2020 §4: shuffle the index, then Owen-scramble each dimension with its own seed.
+    const std::uint32_t i = nested_uniform_scramble(index_, pattern_seed);
+    for (int d = 0; d < 4; ++d)
+      out[d] = to_unit(nested_uniform_scramble(sobol(i, d), hash_combine(pattern_seed, std::uint32_t(d) + 1)));
+  } else {
+    const std::uint32_t s = hash_combine(pattern_seed, index_);
+    for (int d = 0; d < 4; ++d) out[d] = to_unit(hash_combine(s, std::uint32_t(d) + 0x51ed27u));
+  }
+  return out;
+}
+
+}  // namespace plumage

@@ -1,0 +1,278 @@
+// Builds the Embree scene of a feather and answers ray queries against it.
+// One Embree device serves the whole process (creating one starts a thread pool).
+#include "plumage/renderer/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <string>
+
+#include <embree3/rtcore.h>
+
+#include "plumage/common/bspline.h"
+#include "plumage/common/error.h"
+
+namespace plumage {
+namespace {
+
+std::mutex g_device_mu;
+std::string g_device_error;
+
+void on_device_error(void*, RTCError code, const char* msg) {
+  std::lock_guard lock(g_device_mu);
+  g_device_error = "Embree error " + std::to_string(int(code)) + ": " + (msg ? msg : "");
+}
+
+RTCDevice shared_device() {
+  static RTCDevice device = [] {
+    RTCDevice d = rtcNewDevice(nullptr);
+    if (!d) throw Error("cannot create the Embree device (is the CPU supported by this Embree build?)");
+    rtcSetDeviceErrorFunction(d, on_device_error, nullptr);
+    return d;
+  }();
+  return device;
+}
+
+void throw_if_device_error(const char* during) {
+  std::lock_guard lock(g_device_mu);
+  if (g_device_error.empty()) return;
+  std::string msg = std::move(g_device_error);
+  g_device_error.clear();
+  throw Error(std::string(during) + ": " + msg);
+}
+
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+}  // namespace
+
+// What a ray query hands to the context filter: Embree passes our context
+// pointer through, so the ray's skip rule travels with it.
+struct SceneFilter {
+  RTCIntersectContext rtc;
+  const Scene* scene;
+  const Ray* ray;
+
+  // Rejects hits on the primitive a secondary ray left (see Scene::spawn).
+  static void skip_origin(const RTCFilterFunctionNArguments* args) {
+    const auto* self = reinterpret_cast<const SceneFilter*>(args->context);
+    const Ray& r = *self->ray;
+    for (unsigned i = 0; i < args->N; ++i) {
+      if (!args->valid[i]) continue;
+      const unsigned geom = RTCHitN_geomID(args->hit, args->N, i);
+      // During filtering Embree stores the candidate hit distance in tfar.
+      if (geom != r.skip_geom || RTCRayN_tfar(args->ray, args->N, i) >= r.skip_until) continue;
+      const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+      const Scene::CurveGeometry* g = self->scene->curve_geometry(geom);
+      const std::uint32_t id = g ? g->prims[prim].curve : prim;
+      if (id == r.skip_curve) args->valid[i] = 0;
+    }
+  }
+
+  SceneFilter(const Scene* s, const Ray* r) : scene(s), ray(r) {
+    rtcInitIntersectContext(&rtc);
+    // Primary rays skip nothing and pay for no callback.
+    rtc.filter = r->skip_geom == kNoId ? nullptr : &SceneFilter::skip_origin;
+  }
+};
+
+struct Scene::Embree {
+  RTCScene scene = nullptr;
+  ~Embree() {
+    if (scene) rtcReleaseScene(scene);
+  }
+};
+
+Scene::Scene(const Feather& feather, const SceneOptions& options)
+    : feather_(feather), options_(options), rtc_(std::make_unique<Embree>()) {
+  if (options.mode == ShadingMode::Substructure)
+    throw Error("--shading substructure is not implemented yet (issue 5); use --shading hair");
+  for (std::size_t i = 0; i < feather_.curves.size(); ++i) {
+    const Curve& c = feather_.curves[i];
+    const std::string which = std::string(to_string(c.kind)) + " curve #" + std::to_string(i);
+    if (c.points.size() < 4)
+      throw Error(which + " has " + std::to_string(c.points.size()) +
+                  " control points; a cubic B-spline needs at least 4");
+    for (const ControlPoint& cp : c.points)
+      if (!finite(cp.p) || !std::isfinite(cp.radius) || cp.radius < 0)
+        throw Error(which + " has a non-finite position or a negative radius; fix the curve file");
+  }
+  if (feather_.curves.empty()) throw Error("the feather has no curves to render");
+
+  RTCDevice device = shared_device();
+  rtc_->scene = rtcNewScene(device);
+  rtcSetSceneFlags(rtc_->scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+  rtcSetSceneBuildQuality(rtc_->scene, RTC_BUILD_QUALITY_HIGH);
+
+  // Convex-hull property: the control points' box (grown by the radius) holds the curve.
+  bounds_.lo = glm::vec3(std::numeric_limits<float>::infinity());
+  bounds_.hi = -bounds_.lo;
+  for (const Curve& c : feather_.curves)
+    for (const ControlPoint& cp : c.points) {
+      bounds_.lo = glm::min(bounds_.lo, cp.p - glm::vec3(cp.radius));
+      bounds_.hi = glm::max(bounds_.hi, cp.p + glm::vec3(cp.radius));
+      max_radius_ = std::max(max_radius_, cp.radius);
+      if (c.kind == CurveKind::Barb) max_barb_radius_ = std::max(max_barb_radius_, cp.radius);
+    }
+
+  add_curves(shaft_, CurveKind::Shaft, RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE);
+  // Substructure mode will add the barbs as RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE
+  // with a normal buffer and intersection/occlusion filters that test rami and barbules.
+  add_curves(barbs_, CurveKind::Barb, RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE);
+  scene_bounds_ = bounds_;
+  if (options_.backdrop.enabled) add_backdrop();
+
+  rtcCommitScene(rtc_->scene);
+  throw_if_device_error("building the Embree scene");
+}
+
+Scene::~Scene() = default;
+
+void Scene::add_curves(CurveGeometry& g, CurveKind kind, int rtc_type) {
+  for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci) {
+    const Curve& c = feather_.curves[ci];
+    if (c.kind != kind) continue;
+    const auto first = std::uint32_t(g.vertices.size());
+    for (const ControlPoint& cp : c.points) g.vertices.emplace_back(cp.p, cp.radius);
+    for (std::uint32_t s = 0; s + 3 < c.points.size(); ++s) {
+      g.indices.push_back(first + s);
+      g.prims.push_back({ci, first + s});
+    }
+  }
+  if (g.indices.empty()) return;
+  RTCGeometry geom = rtcNewGeometry(shared_device(), RTCGeometryType(rtc_type));
+  // Shared buffers: Embree reads our vectors in place, so they must outlive the scene (they do).
+  rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, g.vertices.data(), 0,
+                             sizeof(glm::vec4), g.vertices.size());
+  rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, g.indices.data(), 0,
+                             sizeof(std::uint32_t), g.indices.size());
+  rtcCommitGeometry(geom);
+  g.id = rtcAttachGeometry(rtc_->scene, geom);
+  rtcReleaseGeometry(geom);
+}
+
+void Scene::add_backdrop() {
+  const glm::vec3 c = bounds_.centre(), s = bounds_.size();
+  const float half = 0.5f * options_.backdrop.extent * std::max({s.x, s.y, 1e-3f});
+  // Just under the feather, but farther than any curve's near-origin culling distance.
+  backdrop_z_ = bounds_.lo.z - std::max(4.0f * max_radius_, 1e-3f * std::max(s.x, s.y));
+  static const float kQuad[4][3] = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+  RTCGeometry geom = rtcNewGeometry(shared_device(), RTC_GEOMETRY_TYPE_QUAD);
+  auto* v = static_cast<float*>(
+      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 4));
+  for (int i = 0; i < 4; ++i) {
+    v[3 * i + 0] = c.x + half * kQuad[i][0];
+    v[3 * i + 1] = c.y + half * kQuad[i][1];
+    v[3 * i + 2] = backdrop_z_;
+  }
+  auto* idx = static_cast<unsigned*>(
+      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), 1));
+  for (unsigned i = 0; i < 4; ++i) idx[i] = i;
+  rtcCommitGeometry(geom);
+  backdrop_id_ = rtcAttachGeometry(rtc_->scene, geom);
+  rtcReleaseGeometry(geom);
+  scene_bounds_.lo = glm::min(bounds_.lo, glm::vec3(c.x - half, c.y - half, backdrop_z_));
+  scene_bounds_.hi = glm::max(bounds_.hi, glm::vec3(c.x + half, c.y + half, backdrop_z_));
+}
+
+const Scene::CurveGeometry* Scene::curve_geometry(std::uint32_t geom) const {
+  if (geom == barbs_.id) return &barbs_;
+  if (geom == shaft_.id) return &shaft_;
+  return nullptr;
+}
+
+void* Scene::embree_scene() const { return rtc_->scene; }
+
+bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
+  SceneFilter ctx(this, &ray);
+  RTCRayHit rh;
+  rh.ray.org_x = ray.o.x; rh.ray.org_y = ray.o.y; rh.ray.org_z = ray.o.z;
+  rh.ray.dir_x = ray.d.x; rh.ray.dir_y = ray.d.y; rh.ray.dir_z = ray.d.z;
+  rh.ray.tnear = ray.tnear;
+  rh.ray.tfar = ray.tfar;
+  rh.ray.time = 0;
+  rh.ray.mask = 0xffffffffu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(rtc_->scene, &ctx.rtc, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+    hit.kind = HitKind::None;
+    return false;
+  }
+  hit.t = rh.ray.tfar;
+  hit.p = ray.o + hit.t * ray.d;
+  hit.ng = {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
+  hit.u = rh.hit.u;
+  hit.v = rh.hit.v;
+  hit.geom = rh.hit.geomID;
+  hit.prim = rh.hit.primID;
+  if (const CurveGeometry* g = curve_geometry(hit.geom)) {
+    hit.curve = g->prims[hit.prim].curve;
+    hit.kind = g == &barbs_ ? HitKind::Barb : HitKind::Shaft;
+  } else {
+    hit.curve = kNoId;
+    hit.kind = HitKind::Backdrop;
+  }
+  return true;
+}
+
+bool Scene::occluded(const Ray& ray) const {
+  SceneFilter ctx(this, &ray);
+  RTCRay r;
+  r.org_x = ray.o.x; r.org_y = ray.o.y; r.org_z = ray.o.z;
+  r.dir_x = ray.d.x; r.dir_y = ray.d.y; r.dir_z = ray.d.z;
+  r.tnear = ray.tnear;
+  r.tfar = ray.tfar;
+  r.time = 0;
+  r.mask = 0xffffffffu;
+  r.id = 0;
+  r.flags = 0;
+  rtcOccluded1(rtc_->scene, &ctx.rtc, &r);
+  return r.tfar < 0;  // Embree sets tfar = -inf on occlusion
+}
+
+// Debian's Embree is built with EMBREE_CURVE_SELF_INTERSECTION_AVOIDANCE_FACTOR = 2:
+// it drops flat-curve hits closer to the ray origin than 2x the curve radius. A ray
+// leaving a barb would then pass through a neighbouring barb that touches it, and
+// light would leak between barbs. So the ray starts a distance D (more than twice
+// the largest barb radius) *behind* the hit point with tnear = D: everything at or
+// beyond the hit point lies farther than 2r from the origin and is found. The fibre
+// the ray left is skipped (context filter) until it is past that fibre's diameter,
+// since the fibre's BCSDF already accounts for light crossing it.
+Ray Scene::spawn(const SurfaceHit& from, const glm::vec3& d, float tmax) const {
+  const float scale = std::max({std::fabs(scene_bounds_.lo.x), std::fabs(scene_bounds_.lo.y),
+                                std::fabs(scene_bounds_.lo.z), std::fabs(scene_bounds_.hi.x),
+                                std::fabs(scene_bounds_.hi.y), std::fabs(scene_bounds_.hi.z), 1.0f});
+  const float eps = 1e-5f * scale;  // a few float ulps at the scene's coordinates
+  const float D = 2.05f * max_barb_radius_ + eps;
+  Ray r;
+  r.o = from.p - D * d;
+  r.d = d;
+  r.tnear = D;
+  r.tfar = D + tmax;
+  r.skip_geom = from.geom;
+  if (from.kind == HitKind::Backdrop) {
+    r.skip_curve = from.prim;
+    r.skip_until = D + 4 * eps;
+  } else {
+    r.skip_curve = from.curve;
+    r.skip_until = D + 2.05f * curve_point(from).radius + 4 * eps;
+  }
+  return r;
+}
+
+CurvePoint Scene::curve_point(const SurfaceHit& hit) const {
+  const CurveGeometry* g = curve_geometry(hit.geom);
+  const glm::vec4* cp = &g->vertices[g->prims[hit.prim].first_cp];
+  const auto b = CubicBSplineBasis::eval(hit.u);
+  const auto db = CubicBSplineBasis::deriv(hit.u);
+  glm::vec4 p(0), dp(0);
+  for (int i = 0; i < 4; ++i) {
+    p += float(b[i]) * cp[i];
+    dp += float(db[i]) * cp[i];
+  }
+  return {glm::vec3(p), glm::vec3(dp), p.w};
+}
+
+}  // namespace plumage

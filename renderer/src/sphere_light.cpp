@@ -1,0 +1,67 @@
+#include "plumage/renderer/sphere_light.h"
+
+#include <cmath>
+#include <numbers>
+
+#include "plumage/common/frame.h"
+
+namespace plumage {
+namespace {
+constexpr float kPi = std::numbers::pi_v<float>;
+
+// 1 - cos(theta_max) of the cone, without the cancellation of 1 - sqrt(1 - s2) for tiny lights.
+float one_minus_cos_max(float sin2_max) { return sin2_max / (1.0f + std::sqrt(std::fmax(0.0f, 1.0f - sin2_max))); }
+}  // namespace
+
+glm::vec3 SphereLight::radiance_for_intensity(const glm::vec3& intensity, float radius) {
+  return intensity / (kPi * radius * radius);
+}
+
+std::optional<SphereSample> sample_sphere_light(const SphereLight& l, const glm::vec3& p, const glm::vec2& u) {
+  const glm::vec3 to_c = l.centre - p;
+  const float d2 = glm::dot(to_c, to_c);
+  const float r2 = l.radius * l.radius;
+  if (!(d2 > r2)) return std::nullopt;
+  const float d = std::sqrt(d2);
+  const float sin2_max = r2 / d2;
+  const float omc = one_minus_cos_max(sin2_max);
+  // Uniform in solid angle over the cone: cos theta uniform on [cos theta_max, 1].
+  const float one_minus_cos = u.x * omc;
+  const float cos_t = 1.0f - one_minus_cos;
+  const float sin_t = std::sqrt(std::fmax(0.0f, one_minus_cos * (2.0f - one_minus_cos)));
+  const float phi = 2.0f * kPi * u.y;
+  const Frame f = frame_from_normal(to_c / d);
+  const glm::vec3 wi = glm::normalize(f.to_world({sin_t * std::cos(phi), sin_t * std::sin(phi), cos_t}));
+  // Near intersection along wi (the cone's rays all meet the sphere).
+  const float b = glm::dot(to_c, wi);
+  const float disc = std::fmax(0.0f, r2 - (d2 - b * b));
+  const float dist = std::fmax(0.0f, b - std::sqrt(disc));
+  return SphereSample{wi, dist, 1.0f / (2.0f * kPi * omc)};
+}
+
+float sphere_light_pdf(const SphereLight& l, const glm::vec3& p) {
+  const glm::vec3 to_c = l.centre - p;
+  const float d2 = glm::dot(to_c, to_c);
+  const float r2 = l.radius * l.radius;
+  if (!(d2 > r2)) return 0.0f;
+  return 1.0f / (2.0f * kPi * one_minus_cos_max(r2 / d2));
+}
+
+std::optional<float> intersect_sphere(const SphereLight& l, const glm::vec3& o, const glm::vec3& d) {
+  const glm::vec3 oc = l.centre - o;
+  const float b = glm::dot(oc, d);
+  const float c = glm::dot(oc, oc) - l.radius * l.radius;
+  // Distance from the centre to the line, computed stably (|oc - b d|^2).
+  const glm::vec3 perp = oc - b * d;
+  const float disc = l.radius * l.radius - glm::dot(perp, perp);
+  if (disc < 0) return std::nullopt;
+  const float s = std::sqrt(disc);
+  if (c > 0) {
+    const float t = b - s;
+    if (t > 0) return t;
+    return std::nullopt;
+  }
+  return b + s;  // inside: the far side
+}
+
+}  // namespace plumage

@@ -1,0 +1,80 @@
+// `plumage render` end to end: it writes the image it is asked for, and bad input
+// (missing files, absurd flags) gives a one-line error and a non-zero exit without
+// leaving a file behind.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "plumage/common/atomic_file.h"
+#include "plumage/common/curve_format.h"
+#include "plumage/common/image.h"
+#include "render_test_feather.h"
+
+using namespace plumage;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CliRun {
+  int rc;
+  std::string err;
+};
+
+CliRun plumage_render(const std::string& args) {
+  const fs::path dir = fs::temp_directory_path() / "plumage_render_cli_test";
+  const fs::path err = dir / "stderr.txt";
+  const std::string cmd = std::string(PLUMAGE_CLI) + " -q render " + args + " 2> " + err.string();
+  const int status = std::system(cmd.c_str());
+  return {WEXITSTATUS(status), fs::exists(err) ? read_file(err) : ""};
+}
+
+fs::path setup_dir() {
+  const fs::path dir = fs::temp_directory_path() / "plumage_render_cli_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  write_fcurves(dir / "feather.fcurves", test::make_test_feather(20.0f, 1.0f, 0.05f));
+  return dir;
+}
+
+}  // namespace
+
+TEST(RenderCli, WritesPngAndExr) {
+  const fs::path dir = setup_dir();
+  const std::string in = (dir / "feather.fcurves").string();
+  {
+    const fs::path out = dir / "out.exr";
+    const CliRun r = plumage_render(in + " -o " + out.string() + " --spp 2 --resolution 24x16 --lights 1,5,12 --threads 2");
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const Image img = read_image(out);
+    EXPECT_EQ(img.width, 24);
+    EXPECT_EQ(img.height, 16);
+  }
+  // An environment, a directional light and an orthographic look-at camera.
+  const CliRun r = plumage_render(in + " -o " + (dir / "env.png").string() +
+                               " --spp 1 --resolution 8x8 --lights none --env 0.5,0.6,0.7 --directional 0,0,1,2"
+                               " --projection orthographic --camera-pos 0,10,50 --look-at 0,10,0 --backdrop black");
+  EXPECT_EQ(r.rc, 0) << r.err;
+}
+
+TEST(RenderCli, BadInputFailsWithOneLineNamingTheProblem) {
+  const fs::path dir = setup_dir();
+  const std::string in = (dir / "feather.fcurves").string();
+  const std::string out = (dir / "bad.png").string();
+  struct Case {
+    std::string args, must_mention;
+  };
+  const Case cases[] = {
+      {in + " -o " + out + " --env " + (dir / "missing_env.exr").string(), "missing_env.exr"},
+      {(dir / "missing.fcurves").string() + " -o " + out, "missing.fcurves"},
+      {in + " -o " + out + " --lights 26", "--lights"},
+      {in + " -o " + out + " --resolution 12by8", "--resolution"},
+  };
+  for (const Case& c : cases) {
+    const CliRun r = plumage_render(c.args + " --resolution 8x8 --spp 1");
+    EXPECT_NE(r.rc, 0) << c.args;
+    EXPECT_NE(r.err.find(c.must_mention), std::string::npos) << c.args << "\n" << r.err;
+    EXPECT_FALSE(fs::exists(out)) << c.args;
+  }
+}

@@ -1,0 +1,140 @@
+// Lights: sphere-light sampling matches its pdf, the environment map's sampling
+// pdf is a density, the dome rig file and --lights are read strictly, and
+// missing files give a plumage::Error naming them.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <numbers>
+#include <random>
+
+#include "plumage/common/error.h"
+#include "plumage/common/image.h"
+#include "plumage/renderer/dome_rig.h"
+#include "plumage/renderer/light_set.h"
+
+using namespace plumage;
+namespace fs = std::filesystem;
+
+namespace {
+constexpr float kPi = std::numbers::pi_v<float>;
+fs::path temp_dir() {
+  const fs::path d = fs::temp_directory_path() / "plumage_render_lights_test";
+  fs::create_directories(d);
+  return d;
+}
+}  // namespace
+
+TEST(RenderLights, SphereSamplesHitTheSphereWithConstantPdf) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (float dist : {3.0f, 50.0f, 1e4f}) {
+    const SphereLight l{{0, 0, dist}, 1.0f, glm::vec3(1)};
+    const glm::vec3 p(0.3f, -0.2f, 0);
+    double solid_angle = 0;
+    for (int i = 0; i < 20000; ++i) {
+      const auto s = sample_sphere_light(l, p, {u(rng), u(rng)});
+      ASSERT_TRUE(s);
+      const auto t = intersect_sphere(l, p, s->wi);
+      ASSERT_TRUE(t) << "sampled direction misses the sphere";
+      EXPECT_NEAR(*t, s->dist, 1e-3f * dist);
+      EXPECT_FLOAT_EQ(s->pdf, sphere_light_pdf(l, p));
+      solid_angle += 1.0 / s->pdf / 20000;
+    }
+    // The cone's solid angle 2 pi (1 - cos theta_max).
+    const double d = glm::length(l.centre - p), st2 = 1.0 / (d * d);
+    EXPECT_NEAR(solid_angle, 2 * kPi * st2 / (1 + std::sqrt(1 - st2)), 1e-3 * solid_angle);
+  }
+  EXPECT_FALSE(sample_sphere_light({{0, 0, 0}, 1.0f, glm::vec3(1)}, {0.1f, 0, 0}, {0.5f, 0.5f}));
+}
+
+TEST(RenderLights, EnvironmentMapPdfIsADensityMatchingItsSamples) {
+  // A lat-long map with one bright patch: sampling must favour it and the pdf
+  // must integrate to one over the sphere.
+  Image img(32, 16, 3, 0.1f);
+  for (int y = 3; y < 6; ++y)
+    for (int x = 20; x < 24; ++x) img.set_rgb(x, y, glm::vec3(50.0f));
+  const fs::path path = temp_dir() / "env.exr";
+  write_image(path, img);
+  const EnvironmentLight env(path);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0, 1);
+  double integral = 0, mean_ratio = 0;
+  const int n = 200000;
+  for (int i = 0; i < n; ++i) {
+    // Importance-sampled estimate of the integral of luminance over the sphere.
+    const EnvSample s = env.sample({u(rng), u(rng)});
+    ASSERT_GT(s.pdf, 0);
+    ASSERT_NEAR(s.pdf, env.pdf(s.wi), 1e-3f * s.pdf);
+    mean_ratio += s.Le.y / s.pdf / n;
+  }
+  // Midpoint quadrature of the pdf over the sphere, 8x8 points per pixel.
+  const int nt = 16 * 8, np = 32 * 8;
+  for (int i = 0; i < nt; ++i)
+    for (int j = 0; j < np; ++j) {
+      const float t = kPi * (i + 0.5f) / nt, phi = 2 * kPi * (j + 0.5f) / np;
+      const glm::vec3 d{std::sin(t) * std::cos(phi), std::sin(t) * std::sin(phi), std::cos(t)};
+      integral += env.pdf(d) * std::sin(t) * (kPi / nt) * (2 * kPi / np);
+    }
+  EXPECT_NEAR(integral, 1.0, 0.005);
+  // Exact integral of the piecewise-constant map: sum L * dphi * (cos t0 - cos t1).
+  double exact = 0;
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 32; ++x)
+      exact += img.rgb(x, y).y * (2 * kPi / 32) * (std::cos(kPi * y / 16) - std::cos(kPi * (y + 1) / 16));
+  EXPECT_NEAR(mean_ratio, exact, 0.01 * exact);
+}
+
+TEST(RenderLights, MissingOrBadEnvironmentMapNamesTheFile) {
+  const fs::path missing = temp_dir() / "no_such_env.exr";
+  try {
+    EnvironmentLight env(missing);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.where().file, missing.string());
+  }
+  Image bad(4, 2, 3, 1.0f);
+  bad.set_rgb(1, 1, glm::vec3(-1.0f));
+  const fs::path neg = temp_dir() / "negative_env.exr";
+  write_image(neg, bad);
+  EXPECT_THROW(EnvironmentLight{neg}, Error);
+  EXPECT_THROW(EnvironmentLight{glm::vec3(-1.0f)}, Error);
+}
+
+TEST(RenderLights, Dome25RigHas25LedsOnTheUpperHemisphere) {
+  const DomeRig rig = read_dome_rig(fs::path(PLUMAGE_DATA_DIR) / "rigs/dome25.json");
+  ASSERT_EQ(rig.leds.size(), 25u);
+  for (const glm::vec3& p : rig.leds) {
+    EXPECT_GT(p.z, 0.0f);
+    EXPECT_NEAR(glm::length(p), 300.0f, 0.01f);
+  }
+  const auto lights = dome_lights(rig, parse_light_selection("1,5,12", 25), {1, 2, 3});
+  ASSERT_EQ(lights.size(), 3u);
+  EXPECT_EQ(lights[0].centre, rig.leds[0] + glm::vec3(1, 2, 3));
+  EXPECT_EQ(lights[2].centre, rig.leds[11] + glm::vec3(1, 2, 3));
+  // Radiant intensity I = L pi r^2 along any direction.
+  EXPECT_NEAR(lights[0].radiance.x * kPi * rig.led_radius * rig.led_radius, rig.intensity.x, 1e-2f * rig.intensity.x);
+}
+
+TEST(RenderLights, RigFileErrorsNameThePlace) {
+  try {
+    parse_dome_rig("{\n  \"leds\": [\n    {\"position\": [1, 2, ]}\n  ]\n}\n", "rig.json");
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.where().file, "rig.json");
+    EXPECT_EQ(e.where().line, 3);
+    EXPECT_GT(e.where().column, 0);
+  }
+  EXPECT_THROW(parse_dome_rig("{\"leds\": []}", "r.json"), Error);
+  EXPECT_THROW(parse_dome_rig("{\"leds\": [{\"position\": [0, 0, 1]}], \"led_radius\": -2}", "r.json"), Error);
+  EXPECT_THROW(parse_dome_rig("{\"leds\": [{\"position\": [0, 0]}]}", "r.json"), Error);
+  EXPECT_THROW(read_dome_rig(temp_dir() / "missing_rig.json"), Error);
+}
+
+TEST(RenderLights, LightSelectionIsStrict) {
+  EXPECT_EQ(parse_light_selection("all", 3), (std::vector<int>{0, 1, 2}));
+  EXPECT_TRUE(parse_light_selection("none", 3).empty());
+  EXPECT_EQ(parse_light_selection("3,1,1", 5), (std::vector<int>{0, 2}));
+  EXPECT_EQ(parse_light_selection("2-4,1", 5), (std::vector<int>{0, 1, 2, 3}));
+  for (const char* bad : {"0", "26", "1,,2", "x", "4-2", "1.5", "-3"})
+    EXPECT_THROW(parse_light_selection(bad, 25), Error) << bad;
+}
