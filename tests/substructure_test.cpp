@@ -430,8 +430,8 @@ TEST(SubstructureScene, FurnaceNoMoreEnergyOutThanIn) {
   const FibreMaterial material(hp);
   const PathIntegrator integrator(scene, lights, material, IntegratorSettings{64, 64});
   CameraSpec cs;
-  cs.position = glm::vec3(2.0f, 6.0f, 4.0f);
-  cs.look_at = glm::vec3(2.0f, 6.0f, 0.0f);
+  cs.position = glm::vec3(1.0f, 6.5f, 3.0f);
+  cs.look_at = glm::vec3(1.0f, 6.5f, 0.0f);
   const Camera camera(cs, 12, 12, scene.feather_bounds());
   int on_barbs = 0;
   for (int y = 0; y < 12; ++y)

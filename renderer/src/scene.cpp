@@ -78,7 +78,7 @@ struct SubstructureFilter {
       // During filtering Embree stores the candidate hit distance in tfar.
       const glm::vec3 p = o + RTCRayN_tfar(args->ray, args->N, i) * d;
       const std::uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
-      const StructureSample ss = scene->ribbon_point(prim, RTCHitN_u(args->hit, args->N, i), p);
+      const StructureSample ss = scene->ribbon_point(prim, RTCHitN_u(args->hit, args->N, i), p, false);
       const Scene::RibbonSegment& rs = scene->ribbon_segments_[prim];
       if (rs.vane->classify(ss.s, ss.w, rs.length).structure == Structure::Empty) {
         args->valid[i] = 0;
@@ -364,7 +364,7 @@ void Scene::build_substructure() {
   }
 }
 
-StructureSample Scene::ribbon_point(std::uint32_t prim, float u, const glm::vec3& p) const {
+StructureSample Scene::ribbon_point(std::uint32_t prim, float u, const glm::vec3& p, bool full_frame) const {
   const std::uint32_t first = barbs_.prims[prim].first_cp;
   const glm::vec4* cp = &barbs_.vertices[first];
   const glm::vec3* np = &barb_normals_[first];
@@ -377,8 +377,15 @@ StructureSample Scene::ribbon_point(std::uint32_t prim, float u, const glm::vec3
     n += float(bu[i]) * np[i];
   }
   StructureSample ss;
-  ss.barb = frame_from_tangent_normal(dc, n);
-  ss.w = glm::dot(p - c, ss.barb.b);
+  if (full_frame) {
+    ss.barb = frame_from_tangent_normal(dc, n);
+    ss.w = glm::dot(p - c, ss.barb.b);
+  } else {
+    // The filter needs only w: b = n x t without building the whole frame. The vane
+    // normal is never along the barb, so the cross product does not vanish.
+    const glm::vec3 b = glm::cross(n, dc);
+    ss.w = glm::dot(p - c, b) / std::sqrt(std::fmax(glm::dot(b, b), 1e-30f));
+  }
   const float x = std::clamp(u, 0.0f, 1.0f) * kArcSamples;
   const int j = std::min(int(x), kArcSamples - 1);
   const float* s = &arc_s_[ribbon_segments_[prim].arc + j];
@@ -387,7 +394,7 @@ StructureSample Scene::ribbon_point(std::uint32_t prim, float u, const glm::vec3
 }
 
 StructureSample Scene::structure_at(const SurfaceHit& hit) const {
-  StructureSample ss = ribbon_point(hit.prim, hit.u, hit.p);
+  StructureSample ss = ribbon_point(hit.prim, hit.u, hit.p, true);
   const RibbonSegment& rs = ribbon_segments_[hit.prim];
   ss.hit = rs.vane->classify(ss.s, ss.w, rs.length);
   ss.frame = rs.vane->frame(ss.barb, ss.hit, ss.w);

@@ -119,7 +119,8 @@ class Scene {
 
   void add_curves(CurveGeometry& g, CurveKind kind, int rtc_type);
   void build_substructure();
-  StructureSample ribbon_point(std::uint32_t prim, float u, const glm::vec3& p) const;
+  // s and w of a point on a barb ribbon; the barb's frame too when `full_frame`.
+  StructureSample ribbon_point(std::uint32_t prim, float u, const glm::vec3& p, bool full_frame) const;
   void add_backdrop();
   const CurveGeometry* curve_geometry(std::uint32_t geom) const;
   friend struct SceneFilter;
