@@ -24,8 +24,11 @@ struct GenerateArgs {
 int run_generate(const GenerateArgs& a) {
   if (a.list_presets) {
     for (const auto& name : list_presets()) {
-      const FeatherParams p = load_preset(name);
-      std::cout << name << "\n    " << p.description << "\n";
+      try {
+        std::cout << name << "\n    " << load_preset(name).description << "\n";
+      } catch (const Error& e) {  // one broken file should not hide the others
+        std::cout << name << "\n    (invalid: " << e.what() << ")\n";
+      }
     }
     return 0;
   }

@@ -178,14 +178,13 @@ void expect_tight(const BSpline3& c, int samples_per_segment = 40000) {
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
   for (int i = 0; i <= samples; ++i) {
     const glm::dvec3 p = c.eval(double(i) / samples);
-    for (int a = 0; a < 3; ++a) {
-      EXPECT_GE(p[a], box.lo[a] - slack);
-      EXPECT_LE(p[a], box.hi[a] + slack);
-    }
     lo = glm::min(lo, p);
     hi = glm::max(hi, p);
   }
+  // The samples' own box: inside the computed one, and touching each of its faces.
   for (int a = 0; a < 3; ++a) {
+    EXPECT_GE(lo[a], box.lo[a] - slack) << "axis " << a;
+    EXPECT_LE(hi[a], box.hi[a] + slack) << "axis " << a;
     EXPECT_NEAR(lo[a], box.lo[a], 1e-9 * size + slack) << "axis " << a;
     EXPECT_NEAR(hi[a], box.hi[a], 1e-9 * size + slack) << "axis " << a;
   }
@@ -313,6 +312,7 @@ TEST(ArcLengthTable, ZeroLengthCurve) {
   EXPECT_EQ(table.t_at(1.0), 0.0);
   EXPECT_EQ(table.s_at(0.5), 0.0);
   EXPECT_THROW(ArcLengthTable(c, 0), Error);
+  EXPECT_THROW(ArcLengthTable(c, 1 << 30), Error);  // would allocate gigabytes
 }
 
 // --- fitting ------------------------------------------------------------------
@@ -533,6 +533,21 @@ TEST(BSplineStress, HugeAndTinyCoordinates) {
             << "scale=" << scale << " offset=" << offset.x;
     }
   }
+}
+
+TEST(BSplineStress, NonFiniteControlPointsAreRejectedNotLoopedOn) {
+  for (double bad : {std::nan(""), double(INFINITY)}) {
+    std::vector<glm::dvec3> cp = {{0, 0, 0}, {1, 1, 0}, {2, 0, 1}, {3, 1, 0}, {4, 0, 0}};
+    cp[2].y = bad;
+    const BSpline3 c(cp);
+    EXPECT_THROW(tight_bounds(c), Error);
+    EXPECT_THROW(arc_length(c), Error);
+    EXPECT_THROW(ArcLengthTable{c}, Error);
+  }
+  // Finite, but lengths overflow: an error, not a NaN length or box.
+  const BSpline3 huge({{-1e308, 0, 0}, {1e308, 0, 0}, {-1e308, 0, 0}, {1e308, 0, 0}});
+  EXPECT_THROW(arc_length(huge), Error);
+  EXPECT_THROW(tight_bounds(huge), Error);
 }
 
 TEST(BSplineFuzz, FitNeverReturnsNaN) {

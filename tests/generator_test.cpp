@@ -12,6 +12,7 @@
 #include "plumage/common/error.h"
 #include "plumage/generator/builder.h"
 #include "plumage/generator/presets.h"
+#include "plumage/generator/random.h"
 
 using namespace plumage;
 
@@ -33,10 +34,11 @@ Closest closest_point(const BSpline3& c, const glm::dvec3& q, bool xy_only = fal
     if (xy_only) d.z = 0;
     return glm::length(d);
   };
-  const int n = 4000;
+  const int n = 2000;
   int best = 0;
+  double best_d = dist(0);
   for (int i = 1; i <= n; ++i)
-    if (dist(double(i) / n) < dist(double(best) / n)) best = i;
+    if (const double d = dist(double(i) / n); d < best_d) best = i, best_d = d;
   double a = std::max(0.0, (best - 1.0) / n), b = std::min(1.0, (best + 1.0) / n);
   const double g = (std::sqrt(5.0) - 1) / 2;
   for (int it = 0; it < 80; ++it) {
@@ -290,5 +292,68 @@ TEST(Presets, TheThreeSpecimensLoadAndBuild) {
     load_preset("osprey");
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("osprey-wing-covert"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Generator, VaneSurfaceHugsTheShaft) {
+  // The cage is fitted so that the limit surface passes through the intended
+  // vane: its inner edge runs along the shaft centreline.
+  for (const auto& p : all_presets()) {
+    const FeatherBuild b = build_feather_detailed(p, 1);
+    const BSpline3 shaft = spline_of(*b.feather.shaft());
+    double worst = 0;
+    for (VaneSide side : {VaneSide::Left, VaneSide::Right})
+      for (int i = 0; i <= 50; ++i)
+        worst = std::max(worst, closest_point(shaft, b.surface(side).eval(i / 50.0, 0).p).distance);
+    EXPECT_LT(worst, 2e-3 * p.shaft.length) << p.name;
+  }
+}
+
+TEST(Generator, RandomValidParametersKeepEveryInvariant) {
+  // Stress: parameter sets drawn across the whole allowed ranges.
+  Rng r(2024);
+  for (int trial = 0; trial < 30; ++trial) {
+    FeatherParams p = default_feather_params();
+    p.shaft.length = r.uniform(1, 2000);
+    p.shaft.calamus_length = r.uniform(0, 0.9) * p.shaft.length;
+    p.shaft.bend_deg = r.uniform(-90, 90);
+    p.shaft.arch_deg = r.uniform(-90, 90);
+    p.shaft.radius_base = r.uniform(1e-4, 20);
+    p.shaft.radius_tip = r.uniform(1e-4, 20);
+    p.shaft.control_points = 4 + int(r.uniform() * 60);
+    for (VaneParams* v : {&p.left, &p.right}) {
+      v->barbs = 2 + int(r.uniform() * 150);
+      std::vector<glm::dvec2> w{{0, r.uniform(0, 2 * p.shaft.length)}}, a{{0, r.uniform(5, 90)}};
+      const int knots = int(r.uniform() * 4);
+      for (int k = 1; k <= knots; ++k) {
+        w.push_back({double(k) / (knots + 1), r.uniform(0, 2 * p.shaft.length)});
+        a.push_back({double(k) / (knots + 1), r.uniform(5, 90)});
+      }
+      w.push_back({1, r.uniform(0, 2 * p.shaft.length)});
+      a.push_back({1, r.uniform(5, 90)});
+      if (w[1].y == 0) w[1].y = 1;
+      v->width = Profile(w);
+      v->angle_deg = Profile(a);
+      v->barb_bend_deg = r.uniform(0, 80);
+    }
+    p.barb.control_points = 4 + int(r.uniform() * 20);
+    p.surface = {r.uniform(-1, 1), r.uniform(-180, 180), 4 + int(r.uniform() * 40), 2 + int(r.uniform() * 10)};
+    p.afterfeather = {r.uniform() < 0.5, r.uniform(0, 0.9), r.uniform(0, 50), r.uniform(0, 50), r.uniform(0, 20)};
+    p.splits = {int(r.uniform() * 10), std::nullopt, r.uniform(0, 50), r.uniform(0.01, 1)};
+    p.jitter = {r.uniform(0, 30), r.uniform(0, 0.9)};
+    ASSERT_NO_THROW(validate(p)) << trial;
+    const FeatherBuild b = build_feather_detailed(p, trial);
+    EXPECT_NO_THROW(validate_feather(b.feather)) << trial;
+    EXPECT_EQ(b.feather.count(VaneSide::Left), std::size_t(p.left.barbs));
+    EXPECT_EQ(b.feather.count(VaneSide::Right), std::size_t(p.right.barbs));
+    const BSpline3 shaft = spline_of(*b.feather.shaft());
+    for (std::size_t k = 0; k < b.paths.size(); ++k) {
+      const Curve& c = b.feather.curves[k + 1];
+      ASSERT_LT(closest_point(shaft, spline_of(c).eval(0)).distance, 1e-6 * p.shaft.length + 1e-3) << trial;
+      if (k > 0 && b.paths[k - 1].side == b.paths[k].side) {
+        for (std::size_t j = 0; j < b.paths[k].uv.size(); ++j)
+          ASSERT_GT(b.paths[k].uv[j].x, b.paths[k - 1].uv[j].x) << trial << " barb " << k;
+      }
+    }
   }
 }

@@ -8,10 +8,23 @@
 namespace plumage {
 namespace {
 
+// Non-finite control points, or ones whose squared distances overflow, would also
+// make the adaptive integration below return NaN.
 void require_valid(const BSpline3& c, const char* what) {
   if (!c.valid())
     throw Error(std::string(what) + ": a cubic B-spline needs at least 4 control points, got " +
                 std::to_string(c.control_points().size()));
+  const auto& p = c.control_points();
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!std::isfinite(p[i].x) || !std::isfinite(p[i].y) || !std::isfinite(p[i].z))
+      throw Error(std::string(what) + ": control point " + std::to_string(i) +
+                  " is not finite (NaN or Inf)");
+  for (std::size_t i = 0; i + 1 < p.size(); ++i) {
+    const glm::dvec3 d = p[i + 1] - p[i];
+    if (!std::isfinite(glm::dot(d, d)))
+      throw Error(std::string(what) + ": control points " + std::to_string(i) + " and " +
+                  std::to_string(i + 1) + " are too far apart for double precision; rescale");
+  }
 }
 
 // dC/du of one segment as a quadratic in its local u, written with the control-point
@@ -50,7 +63,8 @@ double adaptive_length(const SegmentDerivative& d, double a, double b, double wh
                        int depth) {
   const double m = 0.5 * (a + b);
   const double left = gauss_legendre5(d, a, m), right = gauss_legendre5(d, m, b);
-  if (depth == 0 || std::fabs(left + right - whole) <= tol) return left + right;
+  if (depth == 0 || !std::isfinite(whole) || std::fabs(left + right - whole) <= tol)
+    return left + right;
   return adaptive_length(d, a, m, left, 0.5 * tol, depth - 1) +
          adaptive_length(d, m, b, right, 0.5 * tol, depth - 1);
 }
@@ -133,8 +147,8 @@ double arc_length(const BSpline3& c, double t0, double t1) {
 ArcLengthTable::ArcLengthTable(const BSpline3& c, int samples_per_segment)
     : curve_(c), samples_per_segment_(samples_per_segment) {
   require_valid(c, "ArcLengthTable");
-  if (samples_per_segment < 1)
-    throw Error("ArcLengthTable: samples_per_segment must be at least 1, got " +
+  if (samples_per_segment < 1 || samples_per_segment > 65536)
+    throw Error("ArcLengthTable: samples_per_segment must be in [1, 65536], got " +
                 std::to_string(samples_per_segment));
   const std::size_t n = c.num_segments(), k = std::size_t(samples_per_segment);
   const double intervals = double(n * k);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "plumage/common/stats.h"
 #include "plumage/generator/random.h"
 #include "shaft.h"
 
@@ -13,6 +14,9 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegToRad = kPi / 180.0;
 constexpr int kSubsteps = 4;           // RK2 steps per barb station
 constexpr int kCageFitIterations = 3;  // see fit_cage_to_targets
+
+StatCounter barbs_traced("Generator/Barbs traced");
+StatCounter surface_samples("Generator/Vane limit-surface evaluations");
 
 double smoothstep(double x) {
   x = std::clamp(x, 0.0, 1.0);
@@ -174,8 +178,11 @@ struct VaneBuilder {
         s[k][j] = std::min(s[k][j], lv - (n - 1 - k) * eps);
         if (k < n - 1) s[k][j] = std::min(s[k][j], s[k + 1][j] - eps);
       }
+      s[0][j] = std::max(s[0][j], 0.0);  // rounding in the passes above can leave -1e-20
     }
 
+    barbs_traced += n;
+    surface_samples += std::int64_t(n) * K;
     for (int k = 0; k < n; ++k) {
       BarbPath path;
       path.side = side;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "plumage/common/bspline.h"
 #include "plumage/common/error.h"
@@ -56,6 +58,30 @@ class Canvas {
   std::vector<float> cov_;
   std::vector<std::size_t> touched_;
 };
+
+// A stroke font for the scale bar's label: each glyph is polylines on a 3 x 6
+// grid, y up, in the order the pen moves.
+using Stroke = std::vector<glm::vec2>;
+std::vector<Stroke> glyph(char c) {
+  switch (c) {
+    case '0': return {{{1, 0}, {2, 0}, {3, 1}, {3, 5}, {2, 6}, {1, 6}, {0, 5}, {0, 1}, {1, 0}}};
+    case '1': return {{{0.5f, 5}, {1.5f, 6}, {1.5f, 0}}, {{0.5f, 0}, {2.5f, 0}}};
+    case 'm': return {{{0, 0}, {0, 4}}, {{0, 3.2f}, {0.7f, 4}, {1.5f, 3.4f}, {1.5f, 0}},
+                      {{1.5f, 3.4f}, {2.3f, 4}, {3, 3.2f}, {3, 0}}};
+    default: return {};
+  }
+}
+
+void draw_label(Canvas& canvas, const std::string& text, glm::vec2 baseline_left, float unit) {
+  glm::vec2 pen = baseline_left;
+  for (char c : text) {
+    for (const Stroke& st : glyph(c))
+      for (std::size_t i = 1; i < st.size(); ++i)
+        canvas.segment(pen + unit * glm::vec2(st[i - 1].x, -st[i - 1].y), pen + unit * glm::vec2(st[i].x, -st[i].y),
+                       std::max(0.7f, 0.35f * unit), 1.0f);
+    pen.x += (c == ' ' ? 2.5f : 4.5f) * unit;
+  }
+}
 
 }  // namespace
 
@@ -120,6 +146,8 @@ Image render_preview(const Feather& feather, const PreviewOptions& options) {
       const float tick = mm % 5 == 0 ? 6.0f : 3.0f;
       canvas.segment({x0 + mm * scale, y}, {x0 + mm * scale, y - tick}, 0.6f, 1.0f);
     }
+    const float unit = std::max(1.2f, 0.03f * margin);  // glyphs are 6 units tall
+    draw_label(canvas, "10 mm", {x0 + 10 * scale + 3 * unit, y + 3 * unit}, unit);
     canvas.composite(ink);
   }
   return img;

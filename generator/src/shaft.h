@@ -15,9 +15,9 @@ class Shaft {
  public:
   explicit Shaft(const ShaftParams& p);
 
-  const BSpline3& curve() const { return curve_; }
-  double length() const { return s_.back(); }   // arc length of the B-spline
-  double t_at(double s) const;                   // curve parameter at arc length s
+  const BSpline3& curve() const { return table_.curve(); }
+  double length() const { return table_.length(); }        // arc length of the B-spline
+  double t_at(double s) const { return table_.t_at(s); }    // curve parameter at arc length s
 
   struct Frame {
     glm::dvec3 p, t;        // position, unit tangent
@@ -28,8 +28,7 @@ class Shaft {
   Frame frame(double s, double twist_rad = 0) const;
 
  private:
-  BSpline3 curve_;
-  std::vector<double> t_, s_;  // arc-length table
+  ArcLengthTable table_;
 };
 
 }  // namespace plumage

@@ -1,11 +1,15 @@
 #pragma once
-// Procedural feather builder: FeatherParams + seed -> Feather. The shaft is a
-// B-spline along a bent arc; each vane is a Catmull-Clark surface (vane_surface.h)
+// Procedural feather builder: FeatherParams + seed -> Feather, in the spirit of
+// the generator the seed paper used for its specimens (Baron et al. 2021 §4,
+// citing Baron & Patterson, "Procedurally generating biologically driven
+// feathers", LNCS 2019): one shaft curve and many branching barb curves.
+// The shaft is a B-spline along a bent arc; each vane is a Catmull-Clark surface (vane_surface.h)
 // spanned from the shaft to the vane edge; each barb is traced in the vane's
 // (u, v) domain from its root on the shaft to the edge, leaving the shaft at the
 // barb angle and turning toward the tip, and its control points are put on the
 // limit surface with the limit normal there. Same params and seed, same Feather,
-// bit for bit (random.h).
+// bit for bit with the same maths library (random.h fixes the random numbers;
+// another libm may round sin/tan differently in the last bit).
 #include <cstdint>
 #include <memory>
 #include <string>
