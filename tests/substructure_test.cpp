@@ -479,3 +479,33 @@ TEST(SubstructureScene, BarbWithoutVaneIsAnError) {
   f.left = f.right = params(10, 45, 0.04, 0.01, 0.4);
   EXPECT_THROW(Scene(f, SceneOptions{ShadingMode::Substructure, {}}), Error);
 }
+
+// Stress: extreme but valid parameters and inputs give a defined structure, h in
+// [-1, 1], a hook in [0, 1] and an orthonormal frame; never NaN.
+TEST(Substructure, StressExtremeInputs) {
+  std::mt19937 rng(99);
+  std::uniform_real_distribution<double> u01(0, 1);
+  const Frame barb{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (int k = 0; k < 200; ++k) {
+    const double width = std::pow(10.0, -4 + 6 * u01(rng));
+    const SubstructureParams p =
+        params(int(std::pow(10.0, 5 * u01(rng))), 1 + 89 * u01(rng), width * 0.49 * u01(rng) + 1e-9,
+               width * u01(rng), width, -89 + 178 * u01(rng), u01(rng));
+    const BarbSubstructure sub(p, k % 2 ? VaneSide::Left : VaneSide::Right);
+    for (int i = 0; i < 200; ++i) {
+      const double L = std::pow(10.0, -6 + 12 * u01(rng));
+      const double s = (u01(rng) * 1.2 - 0.1) * L, w = (u01(rng) - 0.5) * width * 1.1;
+      const StructureHit h = sub.classify(s, w, L);
+      ASSERT_TRUE(std::isfinite(h.h));
+      ASSERT_GE(h.h, -1.0f);
+      ASSERT_LE(h.h, 1.0f);
+      ASSERT_GE(h.hook, 0.0f);
+      ASSERT_LE(h.hook, 1.0f);
+      if (std::fabs(w) > 0.5 * width) {
+        ASSERT_EQ(h.structure, Structure::Empty);
+      }
+      const Frame f = sub.frame(barb, h, w);
+      ASSERT_NEAR(glm::dot(glm::cross(f.n, f.t), f.b), 1.0f, 1e-4f);
+    }
+  }
+}
