@@ -44,6 +44,8 @@ void throw_if_device_error(const char* during) {
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+StatCounter g_culled("Scene/Curves culled (outside the view and its shadow reach)");
+StatCounter g_structure_lookups("Substructure/Structure lookups at shading");
 StatCounter g_gap_rejections("Substructure/Candidate hits rejected in gaps");
 // Filter functions run deep inside Embree: they tally here and the query adds the
 // tally to the shared counter once, instead of one atomic add per rejection.
@@ -144,19 +146,42 @@ Scene::Scene(const Feather& feather, const SceneOptions& options)
   rtcSetSceneFlags(rtc_->scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
   rtcSetSceneBuildQuality(rtc_->scene, RTC_BUILD_QUALITY_HIGH);
 
-  if (options_.mode == ShadingMode::Substructure) build_substructure();
-
   // Convex-hull property: the control points' box (grown by the radius) holds the curve.
+  std::vector<AxisBox> curve_boxes(feather_.curves.size());
   bounds_.lo = glm::vec3(std::numeric_limits<float>::infinity());
   bounds_.hi = -bounds_.lo;
-  for (const Curve& c : feather_.curves)
+  for (std::size_t i = 0; i < feather_.curves.size(); ++i) {
+    const Curve& c = feather_.curves[i];
+    curve_boxes[i] = {glm::vec3(std::numeric_limits<float>::infinity()), glm::vec3(-std::numeric_limits<float>::infinity())};
     for (const ControlPoint& cp : c.points) {
       const float r = render_radius(c, cp);
-      bounds_.lo = glm::min(bounds_.lo, cp.p - glm::vec3(r));
-      bounds_.hi = glm::max(bounds_.hi, cp.p + glm::vec3(r));
+      curve_boxes[i].lo = glm::min(curve_boxes[i].lo, cp.p - glm::vec3(r));
+      curve_boxes[i].hi = glm::max(curve_boxes[i].hi, cp.p + glm::vec3(r));
       max_radius_ = std::max(max_radius_, r);
       if (c.kind == CurveKind::Barb) max_barb_radius_ = std::max(max_barb_radius_, r);
     }
+    bounds_.lo = glm::min(bounds_.lo, curve_boxes[i].lo);
+    bounds_.hi = glm::max(bounds_.hi, curve_boxes[i].hi);
+  }
+  if (options_.backdrop.enabled) {
+    // Just under the feather, but farther than any curve's near-origin culling distance.
+    const glm::vec3 s = bounds_.size();
+    backdrop_z_ = bounds_.lo.z - std::max(4.0f * max_radius_, 1e-3f * std::max(s.x, s.y));
+  }
+  // Bounds, camera framing and backdrop stay those of the whole feather, so a
+  // culled scene renders the same view as the full one.
+  keep_.assign(feather_.curves.size(), 1);
+  if (options_.cull) {
+    const CurveKeep keep = options_.cull(bounds_, options_.backdrop.enabled ? backdrop_z_ : bounds_.lo.z);
+    for (std::size_t i = 0; i < keep_.size(); ++i)
+      if (!keep(curve_boxes[i])) {
+        keep_[i] = 0;
+        ++culled_;
+      }
+    g_culled += std::int64_t(culled_);
+  }
+
+  if (options_.mode == ShadingMode::Substructure) build_substructure();
 
   add_curves(shaft_, CurveKind::Shaft, RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE);
   add_curves(barbs_, CurveKind::Barb,
@@ -184,7 +209,7 @@ float Scene::render_radius(const Curve& c, const ControlPoint& cp) const {
 void Scene::add_curves(CurveGeometry& g, CurveKind kind, int rtc_type) {
   for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci) {
     const Curve& c = feather_.curves[ci];
-    if (c.kind != kind) continue;
+    if (c.kind != kind || !keep_[ci]) continue;
     const auto first = std::uint32_t(g.vertices.size());
     for (const ControlPoint& cp : c.points) g.vertices.emplace_back(cp.p, render_radius(c, cp));
     for (std::uint32_t s = 0; s + 3 < c.points.size(); ++s) {
@@ -214,8 +239,6 @@ void Scene::add_curves(CurveGeometry& g, CurveKind kind, int rtc_type) {
 void Scene::add_backdrop() {
   const glm::vec3 c = bounds_.centre(), s = bounds_.size();
   const float half = 0.5f * options_.backdrop.extent * std::max({s.x, s.y, 1e-3f});
-  // Just under the feather, but farther than any curve's near-origin culling distance.
-  backdrop_z_ = bounds_.lo.z - std::max(4.0f * max_radius_, 1e-3f * std::max(s.x, s.y));
   static const float kQuad[4][3] = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
   RTCGeometry geom = rtcNewGeometry(shared_device(), RTC_GEOMETRY_TYPE_QUAD);
   auto* v = static_cast<float*>(
@@ -348,7 +371,7 @@ void Scene::build_substructure() {
           .emplace(feather_.substructure(side), side, "--shading substructure");
   for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci) {
     const Curve& c = feather_.curves[ci];
-    if (c.kind != CurveKind::Barb) continue;
+    if (c.kind != CurveKind::Barb || !keep_[ci]) continue;
     if (c.side == VaneSide::None)
       throw Error("barb curve #" + std::to_string(ci) +
                   " belongs to no vane; substructure shading needs 'left' or 'right' to tell distal from proximal");
@@ -399,6 +422,8 @@ StructureSample Scene::ribbon_point(std::uint32_t prim, float u, const glm::vec3
 }
 
 StructureSample Scene::structure_at(const SurfaceHit& hit) const {
+  // Proof that hair mode never reaches substructure code (skip_work_test).
+  ++g_structure_lookups;
   StructureSample ss = ribbon_point(hit.prim, hit.u, hit.p, true);
   const RibbonSegment& rs = ribbon_segments_[hit.prim];
   ss.hit = rs.vane->classify(ss.s, ss.w, rs.length);

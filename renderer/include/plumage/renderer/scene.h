@@ -5,6 +5,7 @@
 // optional backdrop card under the feather. Keeps, per Embree primitive, the
 // feather curve and segment it came from so a hit can be shaded.
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -24,9 +25,17 @@ struct BackdropSpec {
   float extent = 3.0f;       // card side = extent x the feather's larger side
 };
 
+struct AxisBox;
+// Whether a curve, given its bounding box (radius included), goes into the BVH.
+using CurveKeep = std::function<bool(const AxisBox& curve_box)>;
+// Makes the keep test once the scene knows the feather's bounds and the lowest z
+// anything can be seen at (the backdrop's, or the feather's bottom). See view_cull.h.
+using SceneCull = std::function<CurveKeep(const AxisBox& feather_bounds, float floor_z)>;
+
 struct SceneOptions {
   ShadingMode mode = ShadingMode::Hair;
   BackdropSpec backdrop;
+  SceneCull cull;  // empty = every curve is built (culling is off by default)
 };
 
 enum class HitKind { None, Shaft, Barb, Backdrop };
@@ -91,6 +100,8 @@ class Scene {
   const AxisBox& scene_bounds() const { return scene_bounds_; }
   float backdrop_z() const { return backdrop_z_; }
   float max_barb_radius() const { return max_barb_radius_; }
+  // Curves left out of the BVH by SceneOptions::cull.
+  std::size_t culled_curves() const { return culled_; }
 
   // For the benchmark that compares against bare Embree: the committed RTCScene.
   void* embree_scene() const;
@@ -140,6 +151,8 @@ class Scene {
   std::vector<RibbonSegment> ribbon_segments_;
   std::vector<float> arc_s_;
   std::vector<glm::vec3> barb_normals_;
+  std::vector<char> keep_;  // per feather curve: in the BVH
+  std::size_t culled_ = 0;
 };
 
 }  // namespace plumage
