@@ -24,6 +24,9 @@ namespace {
 struct Options {
   std::string input, output, photo;
   int spp = 16;
+  bool adaptive = false;
+  float target_error = 0.02f;
+  int min_spp = 16;
   std::string resolution = "320x480";
   std::uint64_t seed = 0;
   int max_depth = 16;
@@ -54,6 +57,9 @@ int run_compare(const Options& o) {
     throw Error("-o " + o.output + ": the extension picks the format; use .png (sRGB) or .exr (linear)");
   if (o.max_depth < 0) throw Error("--max-depth must be 0 or more");
   view.spp = o.spp;
+  view.adaptive = o.adaptive;
+  view.target_error = o.target_error;
+  view.min_spp = o.min_spp;
   view.seed = o.seed;
   view.max_depth = o.max_depth;
   view.exposure = o.exposure;
@@ -119,6 +125,9 @@ const Registration kCompare{
                                                "NAME_hair.png and NAME_substructure.png")->required();
       sub.add_option("--photo", o->photo, "Photograph of the feather, shown first (scaled to the panel height)");
       sub.add_option("--spp", o->spp, "Samples per pixel")->capture_default_str();
+      sub.add_flag("--adaptive", o->adaptive, "Adaptive sampling: a pixel stops once converged (--spp is the cap; docs/skip-work.md)");
+      sub.add_option("--target-error", o->target_error, "With --adaptive: relative standard error of a pixel's mean at which it stops")->capture_default_str();
+      sub.add_option("--min-spp", o->min_spp, "With --adaptive: samples every pixel takes before it may stop")->capture_default_str();
       sub.add_option("--resolution", o->resolution, "Size of one panel WIDTHxHEIGHT")->capture_default_str();
       sub.add_option("--seed", o->seed, "Random seed")->capture_default_str();
       sub.add_option("--max-depth", o->max_depth, "Maximum scattering events per path")->capture_default_str();

@@ -64,6 +64,9 @@ struct Options {
   std::string input, output;
   std::string shading = "hair";
   int spp = 16;
+  bool adaptive = false;
+  float target_error = 0.02f;
+  int min_spp = 16;
   std::string resolution = "512x512";
   std::uint64_t seed = 0;
   int max_depth = 16;
@@ -181,6 +184,9 @@ int run_render(const Options& o) {
   const PathIntegrator integrator(scene, lights, *material, is);
   RenderSettings rs;
   rs.spp = o.spp;
+  rs.adaptive = o.adaptive;
+  rs.target_error = o.target_error;
+  rs.min_spp = o.min_spp;
   rs.seed = o.seed;
   rs.threads = o.threads;
   rs.sampler = parse_sampler_kind(o.sampler);
@@ -215,6 +221,9 @@ const Registration kRender{
       sub.add_option("--aov", o->aov, "Write an AOV instead of the beauty image: 'structure' colours ramus, distal and proximal barbules and gaps (needs --shading substructure)");
       o->substructure.add_to(sub);
       sub.add_option("--spp", o->spp, "Samples per pixel (a power of two suits the Sobol sampler)")->capture_default_str();
+      sub.add_flag("--adaptive", o->adaptive, "Adaptive sampling: a pixel stops once converged (--spp is the cap; docs/skip-work.md)");
+      sub.add_option("--target-error", o->target_error, "With --adaptive: relative standard error of a pixel's mean at which it stops")->capture_default_str();
+      sub.add_option("--min-spp", o->min_spp, "With --adaptive: samples every pixel takes before it may stop")->capture_default_str();
       sub.add_option("--resolution", o->resolution, "Image size WIDTHxHEIGHT")->capture_default_str();
       sub.add_option("--seed", o->seed, "Random seed; the same seed gives the same image at any --threads")->capture_default_str();
       sub.add_option("--max-depth", o->max_depth, "Maximum scattering events per path (1 = direct light only)")->capture_default_str();

@@ -22,6 +22,9 @@ Image render_view(const Scene& scene, const DomeRig& rig, const ViewSpec& view) 
   rs.seed = view.seed;
   rs.threads = view.threads;
   rs.progress = view.progress;
+  rs.adaptive = view.adaptive;
+  rs.target_error = view.target_error;
+  rs.min_spp = view.min_spp;
   return render(camera, integrator, rs).developed(view.exposure);
 }
 

@@ -27,6 +27,9 @@ struct ViewSpec {
   std::filesystem::path base_dir = ".";  // the curve file's folder (albedo texture paths)
   int threads = 0;
   bool progress = false;
+  bool adaptive = false;         // RenderSettings: adaptive sampling, off by default
+  float target_error = 0.02f;
+  int min_spp = 16;
 };
 
 // Renders `scene` under `rig` as `view` says and returns the image scaled by
