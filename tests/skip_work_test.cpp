@@ -3,6 +3,7 @@
 // renderer does not use OpenCV, and adaptive sampling stays near the reference.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -138,11 +139,13 @@ TEST(SkipWork, CullRuleKeepsShadowCastersAboveTheView) {
       for (float pz : {0.0f, 5.0f, 10.0f})
         for (float lx : {-1.0f, 0.0f, 1.0f}) {
           const glm::vec3 p(px, 0, pz), l(lx, 0, 50 - (lx == 0 ? 1.0f : 0.0f));
-          if (!(l.z > b.lo.z) || pz > b.hi.z) continue;
-          const float t = (b.lo.z - p.z) / (l.z - p.z);
-          const float cx = p.x + std::max(t, 0.0f) * (l.x - p.x);
-          EXPECT_TRUE(cx < b.lo.x || cx > b.hi.x) << "box at x=" << x << " z=" << z << " shadows (" << px << ","
-                                                  << pz << ")";
+          if (pz > b.hi.z) continue;
+          // x is monotonic along the segment: its part inside the box's z range
+          // runs between the x at the two z bounds.
+          auto x_at = [&](float zz) { return p.x + std::clamp((zz - p.z) / (l.z - p.z), 0.0f, 1.0f) * (l.x - p.x); };
+          const float x0 = x_at(b.lo.z), x1 = x_at(b.hi.z);
+          EXPECT_TRUE(std::max(x0, x1) < b.lo.x || std::min(x0, x1) > b.hi.x)
+              << "box at x=" << x << " z=" << z << " shadows (" << px << "," << pz << ")";
         }
   }
 }

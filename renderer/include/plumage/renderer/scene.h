@@ -35,7 +35,7 @@ using SceneCull = std::function<CurveKeep(const AxisBox& feather_bounds, float f
 struct SceneOptions {
   ShadingMode mode = ShadingMode::Hair;
   BackdropSpec backdrop;
-  SceneCull cull;  // empty = every curve is built (culling is off by default)
+  SceneCull cull{};  // empty = every curve is built (culling is off by default)
 };
 
 enum class HitKind { None, Shaft, Barb, Backdrop };
