@@ -101,10 +101,10 @@ TEST(BenchLadder, PlotHasAxesOneColourPerModeAndTheReferenceLine) {
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
       const glm::vec3 c = img.rgb(x, y);
-      if (c.r > 0.8f && c.b < 0.2f) ++orange;
-      else if (c.b > 0.8f && c.r < 0.2f) ++blue;
-      else if (std::abs(c.r - 0.6f) < 0.01f && std::abs(c.b - 0.6f) < 0.01f) ++grey;
-      else if (c.r < 0.01f && c.g < 0.01f && c.b < 0.01f) ++black;
+      if (c.x > 0.8f && c.z < 0.2f) ++orange;
+      else if (c.z > 0.8f && c.x < 0.2f) ++blue;
+      else if (std::abs(c.x - 0.6f) < 0.01f && std::abs(c.z - 0.6f) < 0.01f) ++grey;
+      else if (c.x < 0.01f && c.y < 0.01f && c.z < 0.01f) ++black;
     }
   EXPECT_GT(orange, 200);
   EXPECT_GT(blue, 200);
