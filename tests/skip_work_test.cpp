@@ -233,7 +233,7 @@ TEST(SkipWork, AdaptiveSamplingSavesSamplesAndStaysNearTheReference) {
   SceneOptions so;
   so.backdrop = {true, glm::vec3(0.8f)};
   const Scene scene(rock_dove(), so);
-  const Image reference = render_adaptive(scene, 2048, 99, false, 0);
+  const Image reference = render_adaptive(scene, 1024, 99, false, 0);
   const Image fixed = render_adaptive(scene, 256, 1, false, 0);
   const double saved = counter("Renderer/Camera samples saved by adaptive sampling");
   const Image adaptive = render_adaptive(scene, 256, 1, true, 0);
