@@ -20,6 +20,7 @@
 #include "plumage/renderer/render.h"
 #include "plumage/renderer/scene.h"
 #include "plumage/renderer/structure_aov.h"
+#include "plumage/renderer/view_cull.h"
 
 namespace plumage::cli {
 namespace {
@@ -65,6 +66,7 @@ struct Options {
   std::string shading = "hair";
   int spp = 16;
   bool adaptive = false;
+  bool cull = false;
   float target_error = 0.02f;
   int min_spp = 16;
   std::string resolution = "512x512";
@@ -117,12 +119,35 @@ int run_render(const Options& o) {
   } else if (o.backdrop != "none") {
     throw Error("--backdrop '" + o.backdrop + "': use white, black or none");
   }
+  // Camera.
+  CameraSpec cs;
+  if (o.projection == "perspective") cs.projection = Projection::Perspective;
+  else if (o.projection == "orthographic") cs.projection = Projection::Orthographic;
+  else throw Error("--projection '" + o.projection + "': use perspective or orthographic");
+  if (!o.camera_pos.empty()) cs.position = parse_vec3(o.camera_pos, "--camera-pos");
+  if (!o.look_at.empty()) cs.look_at = parse_vec3(o.look_at, "--look-at");
+  cs.up = parse_vec3(o.up, "--up");
+  cs.fov_deg = o.fov;
+  cs.margin = o.margin;
+  const DomeRig rig = read_dome_rig(o.rig);
+  if (o.cull) {
+    // docs/skip-work.md: the LEDs that are on bound the shadows; an environment or
+    // a directional light does not, so nothing is culled with one.
+    const bool bounded = o.env.empty() && o.directional.empty();
+    so.cull = [&, bounded](const AxisBox& fb, float floor_z) -> CurveKeep {
+      if (!bounded) return [](const AxisBox&) { return true; };
+      LightSet leds;
+      for (const SphereLight& l : dome_lights(rig, parse_light_selection(o.lights, int(rig.leds.size())),
+                                              {fb.centre().x, fb.centre().y, fb.lo.z}))
+        leds.add(l);
+      return view_cull(Camera(cs, W, H, fb), leds, fb, floor_z);
+    };
+  }
   const Scene scene(feather, so);
   const auto t_build = clock::now();
 
   // Lights.
   LightSet lights;
-  const DomeRig rig = read_dome_rig(o.rig);
   const AxisBox& fb = scene.feather_bounds();
   const glm::vec3 rig_centre(fb.centre().x, fb.centre().y, fb.lo.z);
   for (const SphereLight& l : dome_lights(rig, parse_light_selection(o.lights, int(rig.leds.size())), rig_centre))
@@ -162,15 +187,6 @@ int run_render(const Options& o) {
   }
 
   // Camera.
-  CameraSpec cs;
-  if (o.projection == "perspective") cs.projection = Projection::Perspective;
-  else if (o.projection == "orthographic") cs.projection = Projection::Orthographic;
-  else throw Error("--projection '" + o.projection + "': use perspective or orthographic");
-  if (!o.camera_pos.empty()) cs.position = parse_vec3(o.camera_pos, "--camera-pos");
-  if (!o.look_at.empty()) cs.look_at = parse_vec3(o.look_at, "--look-at");
-  cs.up = parse_vec3(o.up, "--up");
-  cs.fov_deg = o.fov;
-  cs.margin = o.margin;
   const Camera camera(cs, W, H, fb);
   if (o.aov == "structure") {
     write_image(o.output, render_structure_aov(scene, camera));
@@ -221,6 +237,7 @@ const Registration kRender{
       sub.add_option("--aov", o->aov, "Write an AOV instead of the beauty image: 'structure' colours ramus, distal and proximal barbules and gaps (needs --shading substructure)");
       o->substructure.add_to(sub);
       sub.add_option("--spp", o->spp, "Samples per pixel (a power of two suits the Sobol sampler)")->capture_default_str();
+      sub.add_flag("--cull", o->cull, "Leave out of the BVH curves that can neither be seen nor shadow what is seen (docs/skip-work.md)");
       sub.add_flag("--adaptive", o->adaptive, "Adaptive sampling: a pixel stops once converged (--spp is the cap; docs/skip-work.md)");
       sub.add_option("--target-error", o->target_error, "With --adaptive: relative standard error of a pixel's mean at which it stops")->capture_default_str();
       sub.add_option("--min-spp", o->min_spp, "With --adaptive: samples every pixel takes before it may stop")->capture_default_str();
