@@ -1,11 +1,15 @@
 // Skipping what the scene does not need (issue 7): view culling keeps the image,
 // lights that are off cost nothing, hair mode runs no substructure code, the
 // renderer does not use OpenCV, and adaptive sampling stays near the reference.
+#include <unistd.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -264,6 +268,28 @@ TEST(SkipWork, AdaptiveSettingsAreChecked) {
   view.target_error = 0.1f;
   view.min_spp = 1;
   EXPECT_THROW(render_view(scene, rig(), view), Error);
+}
+
+TEST(SkipWork, CliCullAndAdaptiveShowInStats) {
+  const auto dir = std::filesystem::temp_directory_path() / ("plumage_skipwork_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string cli = PLUMAGE_CLI, log = (dir / "log.txt").string();
+  ASSERT_EQ(std::system((cli + " -q generate --preset rock-dove-wing --seed 1 -o " + (dir / "rd.fcurves").string() +
+                         " 2>/dev/null").c_str()), 0);
+  const std::string render = cli + " -q --stats render " + (dir / "rd.fcurves").string() + " -o " +
+                             (dir / "o.png").string() + " --resolution 16x16 --spp 32 ";
+  auto output = [&] {
+    std::stringstream ss;
+    ss << std::ifstream(log).rdbuf();
+    return ss.str();
+  };
+  ASSERT_EQ(std::system((render + "--camera-pos 10,60,15 --look-at 10,60,0 --cull 2>" + log).c_str()), 0);
+  EXPECT_NE(output().find("Curves culled"), std::string::npos) << output();
+  ASSERT_EQ(std::system((render + "--adaptive --target-error 0.2 2>" + log).c_str()), 0);
+  EXPECT_NE(output().find("saved by adaptive sampling"), std::string::npos) << output();
+  EXPECT_NE(std::system((render + "--adaptive --target-error 0 2>" + log).c_str()), 0);
+  EXPECT_NE(output().find("--target-error"), std::string::npos) << output();
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
