@@ -39,10 +39,19 @@ int run_generate_from_layout(const GenerateArgs& a) {
   const FeatherLayout& f = pick_feather(layout, a.feather, a.layout);
   std::vector<std::string> warnings;
   const std::filesystem::path out_dir = std::filesystem::path(a.output).parent_path();
-  const Feather feather = layout_to_feather(f, a.seed, std::filesystem::path(a.layout).parent_path(),
-                                            out_dir.empty() ? "." : out_dir, a.layout, &warnings);
+  // The renderable albedo (mask filled) goes next to the curve file: NAME.albedo.png.
+  const std::filesystem::path texture = std::filesystem::path(a.output).replace_extension(".albedo.png");
+  const Feather feather =
+      layout_to_feather_with_albedo(f, a.seed, std::filesystem::path(a.layout).parent_path(),
+                                    out_dir.empty() ? "." : out_dir, texture, a.layout, &warnings);
   validate_feather(feather);
-  write_fcurves(a.output, feather);
+  try {
+    write_fcurves(a.output, feather);
+  } catch (...) {
+    std::error_code ec;
+    if (!feather.albedo.texture.empty()) std::filesystem::remove(texture, ec);
+    throw;
+  }
   if (!a.preview.empty()) write_image(a.preview, render_preview(feather, PreviewOptions{a.preview_size, true}));
   for (const auto& w : warnings) std::cerr << "warning: " << a.layout << ": feather " << f.id << ": " << w << "\n";
   if (!global_options().quiet) {

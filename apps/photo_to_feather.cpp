@@ -83,7 +83,8 @@ class Stages {
 CameraSpec photo_camera(const Layout& layout, const FeatherLayout& f) {
   const glm::dvec2 centre = apply(f.feather_from_image, {0.5 * layout.image_width, 0.5 * layout.image_height});
   const glm::dvec2 up = glm::normalize(apply(f.feather_from_image, {0.0, 0.0}) - apply(f.feather_from_image, {0.0, 1.0}));
-  const double above = 2.0 * f.length_mm + 100.0;
+  // Low enough to stay under the dome rig's LEDs (300 mm), high above a cupped vane.
+  const double above = std::min(0.3 * f.length_mm + 10.0, 250.0);
   CameraSpec c;
   c.projection = Projection::Orthographic;
   c.position = glm::vec3(float(centre.x), float(centre.y), float(above));
@@ -114,6 +115,7 @@ int run_photo_to_feather(const Options& o) {
 
   const fs::path layout_path = out / "layout.json", overlay_path = out / "overlay.png";
   const fs::path fcurves_path = out / "feather.fcurves", preview_path = out / "preview.png";
+  const fs::path texture_path = out / "feather.albedo.png";
   const fs::path comparison_path = out / "comparison.png", summary_path = out / "summary.json";
   PhotoAnalysis analysis;
   Feather feather;
@@ -139,7 +141,8 @@ int run_photo_to_feather(const Options& o) {
 
     const FeatherLayout& f = pick_feather(analysis.layout, o.feather, layout_path.string());
     stages.run("generate", written, [&] {
-      feather = layout_to_feather(f, o.seed, out, out, layout_path.string(), &warnings);
+      written.push_back(texture_path);
+      feather = layout_to_feather_with_albedo(f, o.seed, out, out, texture_path, layout_path.string(), &warnings);
       validate_feather(feather);
       written.push_back(fcurves_path);
       write_fcurves(fcurves_path, feather);
@@ -147,7 +150,7 @@ int run_photo_to_feather(const Options& o) {
       write_image(preview_path, render_preview(feather, PreviewOptions{1024, true}));
       return "feather " + std::to_string(f.id) + ": length " + fixed(f.length_mm, 1) + " mm, " +
              std::to_string(feather.count(VaneSide::Left)) + " + " + std::to_string(feather.count(VaneSide::Right)) +
-             " barbs -> feather.fcurves, preview.png";
+             " barbs -> feather.fcurves, feather.albedo.png, preview.png";
     });
     files.insert(files.end(), written.begin(), written.end());
     written.clear();
@@ -226,7 +229,7 @@ const Registration kPhotoToFeather{
       auto o = std::make_shared<Options>();
       sub.footer(
           "Writes to OUTDIR: layout.json, overlay.png, layout.feather<K>.albedo.png (analyze); feather.fcurves,\n"
-          "preview.png (generate); comparison.png (compare); summary.json. A failing stage leaves none of its\n"
+          "feather.albedo.png, preview.png (generate); comparison.png (compare); summary.json. A failing stage leaves none of its\n"
           "files behind. Example: plumage photo-to-feather feather.jpg -o out/ --mm-per-px 0.08 --spp 32\n"
           "See docs/cli.md and docs/analysis.md.");
       sub.add_option("photo", o->photo, "Photograph of a feather (or a sheet of feathers)")->required();

@@ -243,3 +243,26 @@ TEST(LayoutToParams, AlbedoTextureIsReferencedFromTheCurveFilesFolder) {
   EXPECT_THROW(layout_to_feather(f, 1, dir / "analysis", dir / "curves", "l.json"), Error);
   std::filesystem::remove_all(dir);
 }
+
+TEST(LayoutToParams, AlbedoOutsideTheMaskIsTheMeanUnderIt) {
+  Image a(4, 2, 4);
+  // Two opaque texels (red, blue), one half-covered green, the rest background black.
+  a.set_rgb(0, 0, {1, 0, 0});
+  a.at(0, 0)[3] = 1;
+  a.set_rgb(1, 0, {0, 0, 1});
+  a.at(1, 0)[3] = 1;
+  a.set_rgb(2, 0, {0, 1, 0});
+  a.at(2, 0)[3] = 0.5f;
+  glm::vec3 mean;
+  const Image out = albedo_for_render(a, &mean);
+  const glm::vec3 expect = glm::vec3(1, 0.5f, 1) / 2.5f;
+  EXPECT_NEAR(glm::length(mean - expect), 0.0f, 1e-5f);
+  EXPECT_EQ(out.channels, 3);
+  EXPECT_NEAR(glm::length(out.rgb(0, 0) - glm::vec3(1, 0, 0)), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::length(out.rgb(3, 1) - expect), 0.0f, 1e-5f);
+  EXPECT_NEAR(glm::length(out.rgb(2, 0) - 0.5f * (expect + glm::vec3(0, 1, 0))), 0.0f, 1e-5f);
+  Image clear(3, 3, 4);  // nothing under the mask: a neutral grey, not NaN
+  const Image grey = albedo_for_render(clear, &mean);
+  EXPECT_NEAR(grey.rgb(1, 1).x, 0.5f, 1e-6f);
+  EXPECT_THROW(albedo_for_render(Image()), Error);
+}

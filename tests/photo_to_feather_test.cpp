@@ -63,9 +63,9 @@ class PhotoToFeather : public ::testing::Test {
   fs::path dir_;
 };
 
-const std::set<std::string> kArtifacts = {"layout.json",  "overlay.png",    "layout.feather1.albedo.png",
-                                          "feather.fcurves", "preview.png", "comparison.png",
-                                          "summary.json"};
+const std::set<std::string> kArtifacts = {"layout.json",     "overlay.png",        "layout.feather1.albedo.png",
+                                          "feather.fcurves", "feather.albedo.png", "preview.png",
+                                          "comparison.png",  "summary.json"};
 
 }  // namespace
 
@@ -125,7 +125,7 @@ TEST_F(PhotoToFeather, FailingCompareKeepsEarlierStagesOnly) {
   EXPECT_NE(r.rc, 0);
   EXPECT_NE(r.output.find("stage 'compare' failed"), std::string::npos) << r.output;
   EXPECT_EQ(files_in(dir_ / "out"), (std::set<std::string>{"layout.json", "overlay.png", "layout.feather1.albedo.png",
-                                                           "feather.fcurves", "preview.png"}));
+                                                           "feather.fcurves", "feather.albedo.png", "preview.png"}));
 }
 
 TEST_F(PhotoToFeather, BadArgumentsAreRefused) {

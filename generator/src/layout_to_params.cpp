@@ -251,4 +251,42 @@ Feather layout_to_feather(const FeatherLayout& f, std::uint64_t seed, const std:
   return feather;
 }
 
+Image albedo_for_render(const Image& a, glm::vec3* mean) {
+  if (a.empty()) throw Error("the albedo texture is empty");
+  glm::dvec3 sum(0.0);
+  double weight = 0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      const double alpha = a.channels == 4 ? a.at(x, y)[3] : 1.0;
+      sum += alpha * glm::dvec3(a.rgb(x, y));
+      weight += alpha;
+    }
+  const glm::vec3 m = weight > 0 ? glm::vec3(sum / weight) : glm::vec3(0.5f);
+  Image out(a.width, a.height, 3);
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      const float alpha = a.channels == 4 ? a.at(x, y)[3] : 1.0f;
+      out.set_rgb(x, y, glm::mix(m, a.rgb(x, y), alpha));
+    }
+  if (mean) *mean = m;
+  return out;
+}
+
+Feather layout_to_feather_with_albedo(const FeatherLayout& layout, std::uint64_t seed,
+                                      const std::filesystem::path& albedo_dir,
+                                      const std::filesystem::path& fcurves_dir,
+                                      const std::filesystem::path& texture_path, const std::string& source,
+                                      std::vector<std::string>* warnings) {
+  Feather feather = layout_to_feather(layout, seed, albedo_dir, fcurves_dir, source, warnings);
+  if (feather.albedo.texture.empty()) return feather;
+  glm::vec3 mean;
+  const Image filled = albedo_for_render(read_image(albedo_dir / layout.albedo.file), &mean);
+  write_image(texture_path, filled);
+  feather.albedo.color = mean;
+  feather.albedo.texture = std::filesystem::absolute(texture_path)
+                               .lexically_proximate(std::filesystem::absolute(fcurves_dir))
+                               .generic_string();
+  return feather;
+}
+
 }  // namespace plumage

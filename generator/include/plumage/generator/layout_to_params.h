@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "plumage/common/feather.h"
+#include "plumage/common/image.h"
 #include "plumage/generator/analysis/layout.h"
 #include "plumage/generator/feather_params.h"
 
@@ -44,5 +45,19 @@ const FeatherLayout& pick_feather(const Layout& layout, std::optional<int> id, c
 Feather layout_to_feather(const FeatherLayout& layout, std::uint64_t seed, const std::filesystem::path& albedo_dir,
                           const std::filesystem::path& fcurves_dir, const std::string& source = "layout",
                           std::vector<std::string>* warnings = nullptr);
+
+// The analysis albedo (RGBA, alpha = the photo's mask) made usable for rendering:
+// generated barbs reach texels outside the mask, which hold the background, so
+// those get the mean colour under the mask (RGB result). `mean` receives it.
+Image albedo_for_render(const Image& analysis_albedo, glm::vec3* mean = nullptr);
+
+// layout_to_feather, then the filled albedo written as `texture_path` (atomically)
+// and referenced by the feather relative to `fcurves_dir`, its mean as the
+// feather's constant colour. What `generate --layout` and photo-to-feather use.
+Feather layout_to_feather_with_albedo(const FeatherLayout& layout, std::uint64_t seed,
+                                      const std::filesystem::path& albedo_dir,
+                                      const std::filesystem::path& fcurves_dir,
+                                      const std::filesystem::path& texture_path, const std::string& source,
+                                      std::vector<std::string>* warnings = nullptr);
 
 }  // namespace plumage
