@@ -92,6 +92,14 @@ Profile vane_profile(const std::vector<glm::dvec2>& pts, double calamus_t, doubl
   return Profile(std::move(knots));
 }
 
+// The vane closes at the tip: the last station still has width, the tip none.
+Profile width_profile(const std::vector<glm::dvec2>& pts, double calamus_t, double hi) {
+  Profile p = vane_profile(pts, calamus_t, 0.0, hi);
+  std::vector<glm::dvec2> k = p.knots();
+  k.back().y = 0.0;
+  return Profile(std::move(k));
+}
+
 double median(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
   return v[v.size() / 2];
@@ -124,10 +132,16 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
   const double calamus_t = calamus_fraction(f);
   p.shaft.length = L;
   p.shaft.calamus_length = calamus_t * L;
-  // The builder bends its shaft along an arc; the turn of the analysed shaft's
-  // tangent from calamus to tip is that arc's angle (+ toward +X, i.e. clockwise).
-  const glm::dvec2 t0 = f.shaft_mm.deriv(0.0), t1 = f.shaft_mm.deriv(1.0);
-  const double turn = std::atan2(t0.x * t1.y - t0.y * t1.x, glm::dot(t0, t1));
+  // The builder bends its shaft along a circular arc. An arc turning by T has
+  // sagitta h over chord c with h / c = tan(T / 4) / 2; reading T off the
+  // midpoint rather than the end tangents keeps a hooked tip from bending the
+  // whole shaft. + bend is toward +X (clockwise seen from the dorsal side).
+  const glm::dvec2 p0 = f.shaft_mm.eval(0.0), p1 = f.shaft_mm.eval(1.0), pm = f.shaft_mm.eval(0.5);
+  const glm::dvec2 chord = p1 - p0;
+  const double c = glm::length(chord);
+  const double h = c > 0 ? (chord.x * (pm - p0).y - chord.y * (pm - p0).x) / c : 0.0;  // + left of the chord
+  // An anticlockwise arc bulges to the right of its chord (h < 0).
+  const double turn = c > 0 ? -4.0 * std::atan(2.0 * h / c) : 0.0;
   p.shaft.bend_deg = std::isfinite(turn) ? std::clamp(-turn * 180.0 / kPi, -90.0, 90.0) : 0.0;
   const double r_base = 0.5 * f.shaft_width_mm;
   p.shaft.radius_base = std::isfinite(r_base) && r_base > 1e-3 ? std::min(r_base, 0.02 * L) : 0.004 * L;
@@ -159,7 +173,7 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
       for (const auto& k : preset.left.width.knots())
         width.push_back({calamus_t + k.x * (1 - calamus_t), k.y * L / preset.shaft.length});
     }
-    vp.width = vane_profile(width, calamus_t, 0.0, 2.0 * L);
+    vp.width = width_profile(width, calamus_t, 2.0 * L);
     if (!(vp.width.max_value() > 0)) {
       out.warnings.push_back(side + " vane width: all measured widths are 0; used 2% of the length");
       vp.width = Profile({{0.0, 0.02 * L}, {1.0, 0.02 * L}});
