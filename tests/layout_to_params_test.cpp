@@ -179,8 +179,21 @@ TEST(LayoutToParams, ExtremeMeasurementsStayInTheGeneratorsRange) {
   EXPECT_LE(lp.params.barb_count(VaneSide::Left), 5000);
   EXPECT_LE(lp.params.left.angle_deg.max_value(), 90.0);
   EXPECT_GT(lp.params.left.width.max_value(), 0.0);
-  EXPECT_TRUE(has_warning(lp.warnings, "clamped"));
+  EXPECT_TRUE(has_warning(lp.warnings, "above 90 degrees ignored"));
+  EXPECT_NEAR(lp.params.left.angle_deg(0.5), default_feather_params().left.angle_deg(0.5), 1e-9);
   EXPECT_TRUE(has_warning(lp.warnings, "widths are 0"));
+}
+
+TEST(LayoutToParams, WrappedTipAnglesAreIgnoredAndTinyOnesRaised) {
+  FeatherLayout f = known_layout();
+  const std::size_t n = f.stations_t.size();
+  f.left.barb_angle_deg[n - 1] = 176.0;  // orientation wrapped at the tip
+  f.left.barb_angle_deg[n - 2] = 2.0;
+  const LayoutParams lp = layout_to_params(f, "tip.json");
+  EXPECT_TRUE(has_warning(lp.warnings, "1 station(s) above 90 degrees ignored"));
+  EXPECT_TRUE(has_warning(lp.warnings, "raised to 5"));
+  EXPECT_LE(lp.params.left.angle_deg.max_value(), kAngleLeft + 1e-9);
+  EXPECT_GE(lp.params.left.angle_deg.min_value(), 5.0);
 }
 
 TEST(LayoutToParams, BadLayoutsAreRefusedByName) {

@@ -180,13 +180,20 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
     }
 
     auto angle = trusted(f.stations_t, v.barb_angle_deg, v.barb_angle_confidence);
+    // Past 90° a barb would point back toward the calamus; near the tip, where
+    // barbs run almost along the shaft, the orientation estimate wraps to ~180°.
+    const auto before = angle.size();
+    std::erase_if(angle, [](const glm::dvec2& q) { return q.y > 90.0; });
+    if (angle.size() != before)
+      out.warnings.push_back(side + " barb angle: " + std::to_string(before - angle.size()) +
+                             " station(s) above 90 degrees ignored");
     if (angle.empty()) {
       out.warnings.push_back(side + " barb angle: no station is confident; used the default feather's profile");
       for (const auto& k : preset.left.angle_deg.knots())
         angle.push_back({calamus_t + k.x * (1 - calamus_t), k.y});
     }
-    const bool beyond = std::any_of(angle.begin(), angle.end(), [](const glm::dvec2& q) { return q.y < 5 || q.y > 90; });
-    if (beyond) out.warnings.push_back(side + " barb angle: values outside [5, 90] degrees clamped");
+    if (std::any_of(angle.begin(), angle.end(), [](const glm::dvec2& q) { return q.y < 5; }))
+      out.warnings.push_back(side + " barb angle: values below 5 degrees raised to 5");
     vp.angle_deg = vane_profile(angle, calamus_t, 5.0, 90.0);
 
     double d = 0;
