@@ -1,0 +1,336 @@
+// Numerical stress (issue 7): the hair BCSDF over millions of random and
+// adversarial inputs, and tiny renders of degenerate curves (coincident control
+// points, zero and huge radii, far from the origin, extremely thin ribbons).
+// 10^6 BCSDF inputs by default; PLUMAGE_STRESS=1 (scripts/sanitize.sh) runs 10^7.
+#include <gtest/gtest.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cfloat>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <limits>
+#include <mutex>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "plumage/common/stats.h"
+#include "plumage/renderer/hair_bcsdf.h"
+#include "plumage/renderer/render.h"
+#include "render_test_feather.h"
+
+using namespace plumage;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr float kDenorm = std::numeric_limits<float>::denorm_min();
+
+bool full_stress() {
+  const char* s = std::getenv("PLUMAGE_STRESS");
+  return s && std::string(s) == "1";
+}
+
+// splitmix64: the same stream on every platform; one per block of inputs, so the
+// inputs do not depend on how TBB schedules the blocks.
+struct Rng {
+  std::uint64_t s;
+  explicit Rng(std::uint64_t seed) : s(seed) {}
+  std::uint64_t bits() {
+    std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  double uniform() { return double(bits() >> 11) * 0x1.0p-53; }
+  float uniformf() { return float(bits() >> 40) * 0x1.0p-24f; }
+  double range(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+  template <class T, std::size_t N>
+  T pick(const T (&a)[N]) { return a[bits() % N]; }
+};
+
+// A unit direction in the fibre frame (+x the tangent) from sin(theta) and phi.
+glm::vec3 direction(double sin_theta, double phi) {
+  const double c = std::sqrt(std::max(0.0, 1.0 - sin_theta * sin_theta));
+  return glm::vec3(float(sin_theta), float(c * std::sin(phi)), float(c * std::cos(phi)));
+}
+
+// Mostly the hard cases: theta = +-90 degrees exactly and within ulps of it, the
+// normal plane, denormal components, and the fibre's y axis (h's direction).
+glm::vec3 adversarial_direction(Rng& rng) {
+  const float sgn = (rng.bits() & 1) ? 1.0f : -1.0f;
+  switch (rng.bits() % 8) {
+    case 0: return {sgn, 0.0f, 0.0f};
+    case 1: return {sgn, kDenorm, -kDenorm};
+    case 2: return direction(sgn * (1.0 - std::ldexp(1.0, -int(rng.bits() % 50))), rng.range(-kPi, kPi));
+    case 3: return {kDenorm * sgn, 0.0f, 1.0f};
+    case 4: return {0.0f, sgn, kDenorm};
+    case 5: return direction(0.0, rng.range(-kPi, kPi));
+    default: return direction(rng.range(-1, 1), rng.range(-kPi, kPi));
+  }
+}
+
+HairParams adversarial_params(Rng& rng) {
+  // beta below, at and above the 0.001 clamp and at 1; eta at and near 1.
+  const float betas[] = {kDenorm, 1e-30f, 1e-4f, 0.001f, 0.0010001f, 0.3f, std::nextafter(1.0f, 0.0f), 1.0f};
+  const float etas[] = {1.0f, std::nextafter(1.0f, 2.0f), 1.0001f, 1.01f, 1.55f, 2.5f};
+  const float sigmas[] = {0.0f, kDenorm, 1e-6f, 0.5f, 5.0f, 1e3f, 1e30f, FLT_MAX};
+  HairParams p;
+  p.beta_m = rng.bits() % 4 ? rng.pick(betas) : float(std::pow(10.0, rng.range(-3, 0)));
+  p.beta_n = rng.bits() % 4 ? rng.pick(betas) : float(std::pow(10.0, rng.range(-3, 0)));
+  p.eta = rng.pick(etas);
+  const float alphas[] = {0.0f, -0.0f, kDenorm, 2.0f, -45.0f, 45.0f};
+  p.alpha_deg = rng.bits() % 2 ? rng.pick(alphas) : float(rng.range(-45, 45));
+  for (int c = 0; c < 3; ++c) p.sigma_a[c] = rng.pick(sigmas);
+  return p;
+}
+
+float adversarial_h(Rng& rng) {
+  const float hs[] = {-1.0f, 1.0f, 0.0f, -0.0f, kDenorm, -kDenorm, std::nextafter(1.0f, 0.0f),
+                      std::nextafter(-1.0f, 0.0f), 1.5f, -FLT_MAX};
+  return rng.bits() % 2 ? rng.pick(hs) : float(rng.range(-1, 1));
+}
+
+bool finite_nonneg(const glm::vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && v.x >= 0 && v.y >= 0 && v.z >= 0;
+}
+bool positive(const glm::vec3& v) { return v.x > 0 || v.y > 0 || v.z > 0; }
+
+std::string describe(const HairParams& p, float h, const glm::vec3& wo, const glm::vec3& wi) {
+  std::ostringstream s;
+  s.precision(9);
+  s << "beta_m=" << p.beta_m << " beta_n=" << p.beta_n << " alpha=" << p.alpha_deg << " eta=" << p.eta
+    << " sigma_a=(" << p.sigma_a.x << "," << p.sigma_a.y << "," << p.sigma_a.z << ") h=" << h << " wo=(" << wo.x
+    << "," << wo.y << "," << wo.z << ") wi=(" << wi.x << "," << wi.y << "," << wi.z << ")";
+  return s.str();
+}
+
+// Failures of one kind: how many, and the first input that showed it.
+struct Tally {
+  std::atomic<std::int64_t> count{0};
+  std::mutex m;
+  std::string first;
+  void fail(const std::string& what) {
+    if (count++ == 0) {
+      std::lock_guard<std::mutex> lock(m);
+      first = what;
+    }
+  }
+};
+
+}  // namespace
+
+TEST(StressHairBCSDF, FiniteNonNegativeAndPdfWhereverF) {
+  const std::int64_t n = full_stress() ? 10'000'000 : 1'000'000;
+  constexpr std::int64_t kBlock = 4096;
+  Tally bad_f, bad_pdf, pdf_zero, bad_sample;
+  std::atomic<std::int64_t> evaluated{0}, sampled{0}, nonzero{0};
+  tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, (n + kBlock - 1) / kBlock), [&](const auto& r) {
+    for (std::int64_t b = r.begin(); b != r.end(); ++b) {
+      Rng rng(0xB0C5DF00ull + std::uint64_t(b));
+      std::int64_t local_eval = 0, local_sampled = 0, local_nonzero = 0;
+      for (std::int64_t k = b * kBlock; k < std::min(n, (b + 1) * kBlock); k += 8) {
+        // A BCSDF instance costs a setup; eight direction pairs share one.
+        const HairParams p = adversarial_params(rng);
+        const float h = adversarial_h(rng);
+        const HairBCSDF bcsdf(p, h);
+        for (int j = 0; j < 8; ++j) {
+          const glm::vec3 wo = adversarial_direction(rng), wi = adversarial_direction(rng);
+          const glm::vec3 f = bcsdf.f(wo, wi);
+          const float pdf = bcsdf.pdf(wo, wi);
+          ++local_eval;
+          if (!finite_nonneg(f)) bad_f.fail(describe(p, h, wo, wi));
+          if (!(std::isfinite(pdf) && pdf >= 0)) bad_pdf.fail(describe(p, h, wo, wi));
+          if (positive(f)) {
+            ++local_nonzero;
+            if (!(pdf > 0)) pdf_zero.fail(describe(p, h, wo, wi));
+          }
+          const auto s = bcsdf.sample(wo, {rng.uniformf(), rng.uniformf()}, {rng.uniformf(), rng.uniformf()});
+          if (!s) continue;
+          ++local_sampled;
+          const bool ok = finite_nonneg(s->f) && std::isfinite(s->pdf) && s->pdf > 0 &&
+                          std::isfinite(s->wi.x + s->wi.y + s->wi.z) && std::abs(glm::length(s->wi) - 1.0f) < 1e-5f;
+          if (!ok) bad_sample.fail(describe(p, h, wo, s->wi));
+        }
+      }
+      evaluated += local_eval;
+      sampled += local_sampled;
+      nonzero += local_nonzero;
+    }
+  });
+  EXPECT_EQ(evaluated.load(), n);
+  // The inputs must exercise the lobes, not just return zero.
+  EXPECT_GT(nonzero.load(), n / 4);
+  EXPECT_GT(sampled.load(), n / 2);
+  EXPECT_EQ(bad_f.count.load(), 0) << "f not finite or negative, first: " << bad_f.first;
+  EXPECT_EQ(bad_pdf.count.load(), 0) << "pdf not finite or negative, first: " << bad_pdf.first;
+  EXPECT_EQ(pdf_zero.count.load(), 0) << "pdf = 0 where f > 0, first: " << pdf_zero.first;
+  EXPECT_EQ(bad_sample.count.load(), 0) << "bad sample, first: " << bad_sample.first;
+}
+
+// --- degenerate geometry -----------------------------------------------------------
+
+namespace {
+
+struct Shot {
+  Image image;
+  std::int64_t bad_samples = 0;  // the renderer's own NaN/Inf counter (--stats)
+  int nan_pixels = 0;
+};
+
+std::int64_t bad_sample_counter() {
+  const auto snap = stats_snapshot();
+  const auto it = snap.find("Renderer/NaN or Inf samples dropped");
+  return it == snap.end() ? 0 : std::int64_t(it->second);
+}
+
+// A top view (orthographic, looking down -Z) of `feather` centred on `centre`,
+// `height` mm tall, lit by a distant light from above-front; direct light only
+// unless `depth` says otherwise, so a dark pixel on a fibre means a shadow.
+Shot shoot(const Feather& feather, const glm::vec3& centre, float height, int px, int spp, int depth = 1,
+           bool environment = false) {
+  const Scene scene(feather, SceneOptions{});
+  LightSet lights;
+  lights.add(DirectionalLight{glm::normalize(glm::vec3(0.0f, -0.3f, 1.0f)), glm::vec3(3.0f)});
+  if (environment) lights.set_environment(EnvironmentLight(glm::vec3(0.5f)));
+  const FibreMaterial material(HairParams{});
+  const PathIntegrator integrator(scene, lights, material, IntegratorSettings{depth, 3});
+  CameraSpec cs;
+  cs.projection = Projection::Orthographic;
+  cs.position = centre + glm::vec3(0, 0, 50);
+  cs.look_at = centre;
+  cs.ortho_height = height;
+  const Camera camera(cs, px, px, scene.feather_bounds());
+  RenderSettings rs;
+  rs.spp = spp;
+  rs.progress = false;
+  rs.seed = 3;
+  const std::int64_t before = bad_sample_counter();
+  Shot shot;
+  shot.image = render(camera, integrator, rs).developed(0);
+  shot.bad_samples = bad_sample_counter() - before;
+  for (float v : shot.image.pixels)
+    if (!std::isfinite(v)) ++shot.nan_pixels;
+  return shot;
+}
+
+// A feather whose every curve is moved by `offset`.
+Feather moved(Feather f, const glm::vec3& offset) {
+  for (Curve& c : f.curves)
+    for (auto& cp : c.points) cp.p += offset;
+  return f;
+}
+
+// Mean of the red channel over the pixels that see the ribbon (any light at all
+// when rendered at the origin), and the fraction of those that are under a tenth
+// of the lit median: acne shows up as such dark speckles.
+struct RibbonStats {
+  double mean = 0;
+  double dark_fraction = 0;
+  int pixels = 0;
+};
+
+RibbonStats ribbon_stats(const Image& img, const Image& mask) {
+  std::vector<float> lit;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      if (mask.at(x, y)[0] > 0) lit.push_back(img.at(x, y)[0]);
+  RibbonStats s;
+  s.pixels = int(lit.size());
+  if (lit.empty()) return s;
+  for (float v : lit) s.mean += v;
+  s.mean /= double(lit.size());
+  std::vector<float> sorted = lit;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const float median = sorted[sorted.size() / 2];
+  s.dark_fraction = double(std::count_if(lit.begin(), lit.end(), [&](float v) { return v < 0.1f * median; })) /
+                    double(lit.size());
+  return s;
+}
+
+// A wide, straight barb ribbon along X at `centre`.
+Feather flat_ribbon(const glm::vec3& centre, float radius) {
+  Feather f;
+  f.curves.push_back(test::straight_curve(CurveKind::Barb, centre, 6.0f, radius));
+  return f;
+}
+
+}  // namespace
+
+TEST(StressRender, CoincidentControlPointsGiveNoNaN) {
+  Feather f = test::make_test_feather(20.0f, 1.0f, 0.08f);
+  // A barb collapsed to one point, one with a doubled middle point, one that folds back.
+  Curve point = test::straight_curve(CurveKind::Barb, {2, 10, 0}, 0.0f, 0.1f);
+  Curve doubled = test::straight_curve(CurveKind::Barb, {-2, 8, 0}, 2.0f, 0.1f);
+  doubled.points[2].p = doubled.points[1].p;
+  Curve folded = test::straight_curve(CurveKind::Barb, {0, 12, 0}, 2.0f, 0.1f);
+  folded.points[2].p = folded.points[0].p;
+  folded.points[3].p = folded.points[1].p;
+  for (Curve* c : {&point, &doubled, &folded}) f.curves.push_back(*c);
+  // The shaft with every control point in one place too.
+  for (auto& cp : f.curves[0].points) cp.p = {0, 10, 0};
+  const Shot shot = shoot(f, {0, 10, 0}, 24.0f, 24, 8, 4, true);
+  EXPECT_EQ(shot.nan_pixels, 0);
+  EXPECT_EQ(shot.bad_samples, 0);
+}
+
+TEST(StressRender, ZeroAndHugeRadiiGiveNoNaN) {
+  Feather zero = test::make_test_feather(20.0f, 1.0f, 0.0f);
+  for (auto& cp : zero.curves[0].points) cp.radius = 0.0f;
+  const Shot z = shoot(zero, {0, 10, 0}, 24.0f, 16, 4, 4, true);
+  EXPECT_EQ(z.nan_pixels, 0);
+  EXPECT_EQ(z.bad_samples, 0);
+
+  // Radii far larger than the curves are long: the ribbons cover each other and the view.
+  Feather huge = test::make_test_feather(20.0f, 2.0f, 1e3f);
+  for (auto& cp : huge.curves[0].points) cp.radius = 1e4f;
+  const Shot h = shoot(huge, {0, 10, 0}, 24.0f, 16, 4, 4, true);
+  EXPECT_EQ(h.nan_pixels, 0);
+  EXPECT_EQ(h.bad_samples, 0);
+}
+
+TEST(StressRender, ExtremelyThinRibbonsGiveNoNaN) {
+  for (float radius : {1e-6f, 1e-20f, kDenorm}) {
+    const Shot s = shoot(test::make_test_feather(20.0f, 0.5f, radius), {0, 10, 0}, 24.0f, 16, 4, 4, true);
+    EXPECT_EQ(s.nan_pixels, 0) << radius;
+    EXPECT_EQ(s.bad_samples, 0) << radius;
+  }
+}
+
+TEST(StressRender, LitRibbonFarFromTheOriginHasNoAcne) {
+  // The same lit ribbon at the origin and 10^5 mm away: the far copy must look the
+  // same (self-shadowing from too small a ray offset shows as dark speckles).
+  const float radius = 1.0f;
+  const Shot near = shoot(flat_ribbon({0, 0, 0}, radius), {0, 0, 0}, 2.4f * radius, 32, 16);
+  const RibbonStats ref = ribbon_stats(near.image, near.image);
+  ASSERT_GT(ref.pixels, 200) << "the ribbon must fill much of the view";
+  EXPECT_LT(ref.dark_fraction, 0.02);
+  for (const glm::vec3 where : {glm::vec3(1e5f, 0, 0), glm::vec3(-1e5f, 1e5f, 1e5f)}) {
+    const Shot far = shoot(flat_ribbon(where, radius), where, 2.4f * radius, 32, 16);
+    EXPECT_EQ(far.nan_pixels, 0);
+    EXPECT_EQ(far.bad_samples, 0);
+    const RibbonStats s = ribbon_stats(far.image, near.image);
+    EXPECT_LT(s.dark_fraction, ref.dark_fraction + 0.02) << where.x << " " << where.y << " " << where.z;
+    EXPECT_NEAR(s.mean, ref.mean, 0.05 * ref.mean) << where.x << " " << where.y << " " << where.z;
+  }
+}
+
+TEST(StressRender, FeatherFarFromTheOriginLooksTheSame) {
+  // Multiple bounces among neighbouring barbs, 10^5 mm out.
+  const Feather f = test::make_test_feather(20.0f, 0.5f, 0.08f);
+  const glm::vec3 c(0, 10, 0), off(1e5f, -1e5f, 0);
+  const Shot near = shoot(f, c, 22.0f, 32, 16, 4);
+  const Shot far = shoot(moved(f, off), c + off, 22.0f, 32, 16, 4);
+  EXPECT_EQ(far.nan_pixels, 0);
+  EXPECT_EQ(far.bad_samples, 0);
+  const RibbonStats a = ribbon_stats(near.image, near.image), b = ribbon_stats(far.image, near.image);
+  ASSERT_GT(a.pixels, 50);
+  EXPECT_NEAR(b.mean, a.mean, 0.1 * a.mean);
+  EXPECT_LT(b.dark_fraction, a.dark_fraction + 0.05);
+}
