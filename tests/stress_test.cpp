@@ -227,37 +227,60 @@ Feather moved(Feather f, const glm::vec3& offset) {
   return f;
 }
 
-// Mean of the red channel over the pixels that see the ribbon (any light at all
-// when rendered at the origin), and the fraction of those that are under a tenth
-// of the lit median: acne shows up as such dark speckles.
+// Over the pixels that see the ribbon (any light at all in the reference image
+// `mask`): the mean of the red channel; the fraction under a tenth of the median
+// (dark speckles); and, for a ribbon along the image's rows, whose shading varies
+// only across its width, the fraction under half their row's median: shadow acne
+// breaks that smoothness.
 struct RibbonStats {
   double mean = 0;
   double dark_fraction = 0;
+  double row_dark_fraction = 0;
   int pixels = 0;
 };
 
+float median(std::vector<float> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
 RibbonStats ribbon_stats(const Image& img, const Image& mask) {
-  std::vector<float> lit;
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x)
-      if (mask.at(x, y)[0] > 0) lit.push_back(img.at(x, y)[0]);
   RibbonStats s;
-  s.pixels = int(lit.size());
-  if (lit.empty()) return s;
-  for (float v : lit) s.mean += v;
-  s.mean /= double(lit.size());
-  std::vector<float> sorted = lit;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const float median = sorted[sorted.size() / 2];
-  s.dark_fraction = double(std::count_if(lit.begin(), lit.end(), [&](float v) { return v < 0.1f * median; })) /
-                    double(lit.size());
+  std::vector<float> all;
+  std::int64_t row_dark = 0;
+  for (int y = 0; y < img.height; ++y) {
+    std::vector<float> row;
+    for (int x = 0; x < img.width; ++x)
+      if (mask.at(x, y)[0] > 0) row.push_back(img.at(x, y)[0]);
+    if (row.empty()) continue;
+    const float m = median(row);
+    row_dark += std::count_if(row.begin(), row.end(), [&](float v) { return v < 0.5f * m; });
+    all.insert(all.end(), row.begin(), row.end());
+  }
+  s.pixels = int(all.size());
+  if (all.empty()) return s;
+  for (float v : all) s.mean += v;
+  s.mean /= double(all.size());
+  const float m = median(all);
+  s.dark_fraction = double(std::count_if(all.begin(), all.end(), [&](float v) { return v < 0.1f * m; })) /
+                    double(all.size());
+  s.row_dark_fraction = double(row_dark) / double(all.size());
   return s;
 }
 
-// A wide, straight barb ribbon along X at `centre`.
-Feather flat_ribbon(const glm::vec3& centre, float radius) {
+// Fraction of pixels that differ from the background `bg` (red channel): the
+// fibres are in view, so the NaN checks are about something.
+double coverage(const Image& img, float bg) {
+  int n = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) n += std::abs(img.at(x, y)[0] - bg) > 1e-3f;
+  return double(n) / (double(img.width) * img.height);
+}
+
+// A wide, straight fibre along X at `centre`: a flat barb ribbon or a round shaft.
+Feather straight_fibre(CurveKind kind, const glm::vec3& centre, float radius) {
   Feather f;
-  f.curves.push_back(test::straight_curve(CurveKind::Barb, centre, 6.0f, radius));
+  f.curves.push_back(test::straight_curve(kind, centre, 6.0f, radius));
   return f;
 }
 
@@ -276,6 +299,7 @@ TEST(StressRender, CoincidentControlPointsGiveNoNaN) {
   // The shaft with every control point in one place too.
   for (auto& cp : f.curves[0].points) cp.p = {0, 10, 0};
   const Shot shot = shoot(f, {0, 10, 0}, 24.0f, 24, 8, 4, true);
+  EXPECT_GT(coverage(shot.image, 0.5f), 0.05);
   EXPECT_EQ(shot.nan_pixels, 0);
   EXPECT_EQ(shot.bad_samples, 0);
 }
@@ -291,6 +315,9 @@ TEST(StressRender, ZeroAndHugeRadiiGiveNoNaN) {
   Feather huge = test::make_test_feather(20.0f, 2.0f, 1e3f);
   for (auto& cp : huge.curves[0].points) cp.radius = 1e4f;
   const Shot h = shoot(huge, {0, 10, 0}, 24.0f, 16, 4, 4, true);
+  // Not all of the view: Embree drops flat-curve hits within 2 radii of the ray
+  // origin (DESIGN §4), and the camera is 50 mm from ribbons 2 m wide.
+  EXPECT_GT(coverage(h.image, 0.5f), 0.1) << "huge ribbons must be in view";
   EXPECT_EQ(h.nan_pixels, 0);
   EXPECT_EQ(h.bad_samples, 0);
 }
@@ -298,26 +325,32 @@ TEST(StressRender, ZeroAndHugeRadiiGiveNoNaN) {
 TEST(StressRender, ExtremelyThinRibbonsGiveNoNaN) {
   for (float radius : {1e-6f, 1e-20f, kDenorm}) {
     const Shot s = shoot(test::make_test_feather(20.0f, 0.5f, radius), {0, 10, 0}, 24.0f, 16, 4, 4, true);
+    EXPECT_GT(coverage(s.image, 0.5f), 0.01) << "the shaft at least is in view";
     EXPECT_EQ(s.nan_pixels, 0) << radius;
     EXPECT_EQ(s.bad_samples, 0) << radius;
   }
 }
 
-TEST(StressRender, LitRibbonFarFromTheOriginHasNoAcne) {
-  // The same lit ribbon at the origin and 10^5 mm away: the far copy must look the
-  // same (self-shadowing from too small a ray offset shows as dark speckles).
+TEST(StressRender, LitFibreFarFromTheOriginHasNoAcne) {
+  // The same lit fibre at the origin and 10^5 mm away: the far copy must look the
+  // same (self-shadowing from too small a ray offset shows as dark speckles). Round
+  // curves matter most: Embree's near-origin culling hides flat ribbons from
+  // themselves anyway.
   const float radius = 1.0f;
-  const Shot near = shoot(flat_ribbon({0, 0, 0}, radius), {0, 0, 0}, 2.4f * radius, 32, 16);
-  const RibbonStats ref = ribbon_stats(near.image, near.image);
-  ASSERT_GT(ref.pixels, 200) << "the ribbon must fill much of the view";
-  EXPECT_LT(ref.dark_fraction, 0.02);
-  for (const glm::vec3 where : {glm::vec3(1e5f, 0, 0), glm::vec3(-1e5f, 1e5f, 1e5f)}) {
-    const Shot far = shoot(flat_ribbon(where, radius), where, 2.4f * radius, 32, 16);
-    EXPECT_EQ(far.nan_pixels, 0);
-    EXPECT_EQ(far.bad_samples, 0);
-    const RibbonStats s = ribbon_stats(far.image, near.image);
-    EXPECT_LT(s.dark_fraction, ref.dark_fraction + 0.02) << where.x << " " << where.y << " " << where.z;
-    EXPECT_NEAR(s.mean, ref.mean, 0.05 * ref.mean) << where.x << " " << where.y << " " << where.z;
+  for (CurveKind kind : {CurveKind::Shaft, CurveKind::Barb}) {
+    const char* name = kind == CurveKind::Shaft ? "round shaft" : "flat barb";
+    const Shot near = shoot(straight_fibre(kind, {0, 0, 0}, radius), {0, 0, 0}, 2.4f * radius, 32, 16);
+    const RibbonStats ref = ribbon_stats(near.image, near.image);
+    ASSERT_GT(ref.pixels, 200) << name << ": the fibre must fill much of the view";
+    EXPECT_LT(ref.row_dark_fraction, 0.01) << name << ": the reference itself must be smooth along the fibre";
+    for (const glm::vec3 where : {glm::vec3(1e5f, 0, 0), glm::vec3(-1e5f, 1e5f, 1e5f)}) {
+      const Shot far = shoot(straight_fibre(kind, where, radius), where, 2.4f * radius, 32, 16);
+      EXPECT_EQ(far.nan_pixels, 0) << name;
+      EXPECT_EQ(far.bad_samples, 0) << name;
+      const RibbonStats s = ribbon_stats(far.image, near.image);
+      EXPECT_LT(s.row_dark_fraction, ref.row_dark_fraction + 0.01) << name << " at " << where.x << " " << where.y;
+      EXPECT_NEAR(s.mean, ref.mean, 0.05 * ref.mean) << name << " at " << where.x << " " << where.y;
+    }
   }
 }
 
