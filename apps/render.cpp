@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "command.h"
+#include "substructure_options.h"
 #include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
 #include "plumage/common/stats.h"
@@ -18,6 +19,7 @@
 #include "plumage/renderer/dome_rig.h"
 #include "plumage/renderer/render.h"
 #include "plumage/renderer/scene.h"
+#include "plumage/renderer/structure_aov.h"
 
 namespace plumage::cli {
 namespace {
@@ -80,6 +82,8 @@ struct Options {
   float margin = 0.05f;
   HairParams hair;
   std::string melanin, sigma_a;
+  std::string aov;
+  SubstructureOverrides substructure;
 };
 
 int run_render(const Options& o) {
@@ -96,7 +100,9 @@ int run_render(const Options& o) {
   if (ext != ".exr" && ext != ".png" && ext != ".hdr" && ext != ".tif" && ext != ".jpg")
     throw Error("-o " + o.output + ": the extension picks the format; use .exr (linear) or .png (sRGB)");
 
-  const Feather feather = read_fcurves(o.input);
+  if (!o.aov.empty() && o.aov != "structure") throw Error("--aov '" + o.aov + "': the only AOV is 'structure'");
+  Feather feather = read_fcurves(o.input);
+  o.substructure.apply(feather);
   const auto t_read = clock::now();
 
   SceneOptions so;
@@ -163,6 +169,11 @@ int run_render(const Options& o) {
   cs.fov_deg = o.fov;
   cs.margin = o.margin;
   const Camera camera(cs, W, H, fb);
+  if (o.aov == "structure") {
+    write_image(o.output, render_structure_aov(scene, camera));
+    if (!global_options().quiet) std::cerr << "wrote " << o.output << " (structure AOV, " << W << "x" << H << ")\n";
+    return 0;
+  }
 
   IntegratorSettings is;
   if (o.max_depth < 0) throw Error("--max-depth must be 0 or more");
@@ -200,7 +211,9 @@ const Registration kRender{
           "See docs/rendering.md.");
       sub.add_option("input", o->input, "Feather curve file (.fcurves)")->required();
       sub.add_option("-o,--output", o->output, "Output image: .exr (linear float) or .png (sRGB 8-bit)")->required();
-      sub.add_option("--shading", o->shading, "Barb shading: hair (substructure: issue 5)")->capture_default_str();
+      sub.add_option("--shading", o->shading, "Barb shading: hair or substructure (Baron et al. 2021; docs/substructure.md)")->capture_default_str();
+      sub.add_option("--aov", o->aov, "Write an AOV instead of the beauty image: 'structure' colours ramus, distal and proximal barbules and gaps (needs --shading substructure)");
+      o->substructure.add_to(sub);
       sub.add_option("--spp", o->spp, "Samples per pixel (a power of two suits the Sobol sampler)")->capture_default_str();
       sub.add_option("--resolution", o->resolution, "Image size WIDTHxHEIGHT")->capture_default_str();
       sub.add_option("--seed", o->seed, "Random seed; the same seed gives the same image at any --threads")->capture_default_str();
@@ -210,7 +223,9 @@ const Registration kRender{
       sub.add_option("--rig", o->rig, "Light rig JSON file")->capture_default_str();
       sub.add_option("--env", o->env, "Environment: a grey value, R,G,B, or a lat-long .exr/.hdr image (+Z is up)");
       sub.add_option("--env-scale", o->env_scale, "Multiplier on the environment radiance")->capture_default_str();
-      sub.add_option("--directional", o->directional, "Directional light DX,DY,DZ,E or DX,DY,DZ,R,G,B (toward the light; irradiance); repeatable");
+      sub.add_option("--directional", o->directional, "Directional light DX,DY,DZ,E or DX,DY,DZ,R,G,B (toward the light; irradiance); repeatable")
+          ->allow_extra_args(false)
+          ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
       sub.add_option("--backdrop", o->backdrop, "Card under the feather: white (albedo 0.8), black (0.03) or none")->capture_default_str();
       sub.add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
       sub.add_option("--sampler", o->sampler, "sobol (Owen-scrambled, Burley 2020) or independent")->capture_default_str();

@@ -9,7 +9,8 @@
 
 #include <embree3/rtcore.h>
 
-#include "../tests/render_test_feather.h"
+#include "plumage/generator/builder.h"
+#include "plumage/generator/presets.h"
 #include "plumage/common/stats.h"
 #include "plumage/renderer/dome_rig.h"
 #include "plumage/renderer/render.h"
@@ -21,7 +22,7 @@ namespace {
 constexpr int kRes = 256;
 
 struct BenchScene {
-  Feather feather = test::make_test_feather(60.0f, 0.25f, 0.05f);
+  Feather feather = build_feather(load_preset("rock-dove-wing"), 1, "preset:rock-dove-wing");
   Scene scene{feather, SceneOptions{ShadingMode::Hair, {true, glm::vec3(0.8f)}}};
   Camera camera{CameraSpec{}, kRes, kRes, scene.feather_bounds()};
   std::vector<Ray> rays;
@@ -143,5 +144,22 @@ BENCHMARK(BM_SamplerRMSE)
     ->ArgsProduct({{4, 16, 64}, {0, 1}})
     ->Iterations(4)
     ->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+namespace {
+
+// Cost of four sample dimensions (arg: 0 = Sobol, 1 = independent).
+void BM_SamplerNext4(benchmark::State& state) {
+  PixelSampler s(state.range(0) == 0 ? SamplerKind::Sobol : SamplerKind::Independent, 7);
+  std::uint32_t i = 0;
+  for (auto _ : state) {
+    s.start(int(i & 63), int(i >> 6 & 63), i);
+    benchmark::DoNotOptimize(s.next4());
+    ++i;
+  }
+  state.SetLabel(state.range(0) == 0 ? "sobol" : "independent");
+}
+BENCHMARK(BM_SamplerNext4)->Arg(0)->Arg(1);
 
 }  // namespace

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The main job on a built-in default: installs what is missing, builds, generates
-# a preset feather, renders it, and says where everything went.
+# a preset feather, renders it with hair and substructure shading side by side,
+# and says where everything went.
 #   scripts/demo.sh                  the Osprey wing covert preset
 #   PRESET=rock-dove-wing scripts/demo.sh
 #   scripts/demo.sh PHOTO            (photo-to-feather: not yet available)
@@ -26,7 +27,11 @@ fi
 preset=${PRESET:-osprey-wing-covert}
 "$plumage" generate --preset "$preset" --seed 1 -o "$out/feather.fcurves" --preview "$out/preview.png"
 "$plumage" info "$out/feather.fcurves"
-if "$plumage" --help | grep -q "render"; then
+if "$plumage" --help | grep -q "compare"; then
+  # Hair and substructure shading side by side: same camera, dome LEDs, samples, exposure.
+  "$plumage" compare "$out/feather.fcurves" --spp ${SPP:-16} -o "$out/side_by_side.png"
+  echo "demo: wrote $out/feather.fcurves, $out/preview.png and the side-by-side $out/side_by_side.png"
+elif "$plumage" --help | grep -q "render"; then
   "$plumage" render "$out/feather.fcurves" --shading hair --lights all --spp ${SPP:-16} -o "$out/hair.png"
   echo "demo: wrote $out/feather.fcurves, $out/preview.png and $out/hair.png"
 else

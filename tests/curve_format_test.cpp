@@ -2,7 +2,10 @@
 // get their exact place and message, random feathers round-trip bit for bit,
 // and no prefix or mutation of a file crashes the reader or makes it allocate
 // what a lying count asks for.
+#include "plumage/common/curve_format.h"
+
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <bit>
 #include <cstring>
@@ -11,11 +14,8 @@
 #include <sstream>
 #include <vector>
 
-#include <unistd.h>
-
 #include "feather_samples.h"
 #include "plumage/common/atomic_file.h"
-#include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
 
 using namespace plumage;
@@ -24,27 +24,27 @@ namespace {
 
 // Line numbers below refer to this file (1-based).
 const std::vector<std::string> kBase = {
-    "fcurves 1",                                                      // 1
-    "units mm",                                                       // 2
-    "source \"preset:test\"",                                         // 3
-    "seed 7",                                                         // 4
-    "albedo color 0.5 0.4 0.3",                                       // 5
+    "fcurves 1",                 // 1
+    "units mm",                  // 2
+    "source \"preset:test\"",    // 3
+    "seed 7",                    // 4
+    "albedo color 0.5 0.4 0.3",  // 5
     "substructure left barbules 20 ramus_radius 0.02 barbule_radius 0.005 elevation 40 azimuth 10 "
-    "hooked_fraction 0.2 ribbon_width 0.3",                           // 6
+    "hooked_fraction 0.2 ribbon_width 0.3",  // 6
     "substructure right barbules 21 ramus_radius 0.02 barbule_radius 0.005 elevation 40 azimuth -10 "
-    "hooked_fraction 0.2 ribbon_width 0.3",                           // 7
-    "curves 2",                                                       // 8
-    "curve shaft none bspline 4 root 0",                              // 9
-    "0 0 0 0.5 0 0 1",                                                // 10
-    "0 1 0 0.5 0 0 1",                                                // 11
-    "0 2 0 0.4 0 0 1",                                                // 12
-    "0 3 0 0.3 0 0 1",                                                // 13
-    "curve barb left bspline 4 root 0.5",                             // 14
-    "0 1.5 0 0.1 0 0 1",                                              // 15
-    "-1 2 0 0.1 0 0 1",                                               // 16
-    "-2 2.5 0 0.1 0 0 1",                                             // 17
-    "-3 3 0 0.1 0 0 1",                                               // 18
-    "end",                                                            // 19
+    "hooked_fraction 0.2 ribbon_width 0.3",  // 7
+    "curves 2",                              // 8
+    "curve shaft none bspline 4 root 0",     // 9
+    "0 0 0 0.5 0 0 1",                       // 10
+    "0 1 0 0.5 0 0 1",                       // 11
+    "0 2 0 0.4 0 0 1",                       // 12
+    "0 3 0 0.3 0 0 1",                       // 13
+    "curve barb left bspline 4 root 0.5",    // 14
+    "0 1.5 0 0.1 0 0 1",                     // 15
+    "-1 2 0 0.1 0 0 1",                      // 16
+    "-2 2.5 0 0.1 0 0 1",                    // 17
+    "-3 3 0 0.1 0 0 1",                      // 18
+    "end",                                   // 19
 };
 
 std::string join(const std::vector<std::string>& lines) {
@@ -98,55 +98,68 @@ std::vector<Malformed> malformed_files() {
   std::vector<Malformed> t = {
       {"empty file", "", 1, 1, "missing header: the first line must be 'fcurves 1'"},
       {"not a curve file", "ply\nformat ascii 1.0\n", 1, 1, "missing header"},
+      {"byte-order mark", "\xEF\xBB\xBF" + join(kBase), 1, 1, "UTF-8 byte-order mark"},
       {"comment before header", "# hi\n" + join(kBase), 1, 1, "missing header"},
       {"version from the future", with_line(1, "fcurves 2"), 1, 9,
        "format version 2 is newer than this reader (1): upgrade Plumage to read it"},
       {"version zero", with_line(1, "fcurves 0"), 1, 9, "format version must be 1 or more"},
       {"version missing", with_line(1, "fcurves"), 1, 8, "expected a version number after 'fcurves'"},
-      {"version not a number", with_line(1, "fcurves one"), 1, 9, "expected a whole number >= 0, found 'one'"},
+      {"version not a number", with_line(1, "fcurves one"), 1, 9,
+       "expected a whole number >= 0, found 'one'"},
       {"junk after header", with_line(1, "fcurves 1 extra"), 1, 11, "unexpected 'extra'"},
       {"second header", insert_before(3, "fcurves 1"), 3, 1, "second 'fcurves' header"},
       {"unknown record", insert_before(5, "colour 1 2 3"), 5, 1, "unknown record 'colour'"},
       {"units not mm", with_line(2, "units cm"), 2, 7, "units: only 'mm' is supported"},
       {"units twice", insert_before(3, "units mm"), 3, 1, "second 'units' record (first on line 2)"},
       {"negative seed", with_line(4, "seed -1"), 4, 6, "seed: expected a whole number >= 0, found '-1'"},
-      {"seed too large", with_line(4, "seed 99999999999999999999999"), 4, 6, "seed: '99999999999999999999999' is too large"},
+      {"seed too large", with_line(4, "seed 99999999999999999999999"), 4, 6,
+       "seed: '99999999999999999999999' is too large"},
       {"source unquoted", with_line(3, "source preset"), 3, 8, "source: expected a string in double quotes"},
       {"unterminated string", with_line(3, "source \"abc"), 3, 8, "unterminated string"},
       {"unknown escape", with_line(3, "source \"a\\qb\""), 3, 10, "unknown escape in string"},
-      {"text glued to string", with_line(3, "source \"a\"b"), 3, 11, "expected a space after the closing '\"'"},
+      {"text glued to string", with_line(3, "source \"a\"b"), 3, 11,
+       "expected a space after the closing '\"'"},
       {"stray quote in word", with_line(4, "seed 4\"2"), 4, 7, "stray '\"' inside a word"},
       {"control character", with_line(4, "seed 4\x01"), 4, 7, "control character"},
       {"control character in string", with_line(3, "source \"a\tb\""), 3, 10, "control character"},
-      {"string as record name", insert_before(5, "\"albedo\" color 1 1 1"), 5, 1, "expected a record name, found a string"},
-      {"albedo kind unknown", with_line(5, "albedo colour 1 1 1"), 5, 8, "albedo: expected 'color' or 'texture', found 'colour'"},
-      {"albedo negative", with_line(5, "albedo color 0.5 -0.1 0.3"), 5, 18, "albedo colour: must not be negative, found '-0.1'"},
-      {"albedo too few numbers", with_line(5, "albedo color 0.5 0.4"), 5, 21, "'albedo' record is incomplete: expected 'albedo color R G B'"},
-      {"albedo colour twice", insert_before(6, "albedo color 1 1 1"), 6, 1, "second 'albedo color' record (first on line 5)"},
+      {"string as record name", insert_before(5, "\"albedo\" color 1 1 1"), 5, 1,
+       "expected a record name, found a string"},
+      {"albedo kind unknown", with_line(5, "albedo colour 1 1 1"), 5, 8,
+       "albedo: expected 'color' or 'texture', found 'colour'"},
+      {"albedo negative", with_line(5, "albedo color 0.5 -0.1 0.3"), 5, 18,
+       "albedo colour: must not be negative, found '-0.1'"},
+      {"albedo too few numbers", with_line(5, "albedo color 0.5 0.4"), 5, 21,
+       "'albedo' record is incomplete: expected 'albedo color R G B'"},
+      {"albedo colour twice", insert_before(6, "albedo color 1 1 1"), 6, 1,
+       "second 'albedo color' record (first on line 5)"},
       {"texture rectangle inverted", insert_before(6, "albedo texture \"a.png\" 0 0 -1 1"), 6, 28,
        "albedo texture: XMAX must be greater than XMIN"},
-      {"texture name empty", insert_before(6, "albedo texture \"\" 0 0 1 1"), 6, 16, "albedo texture: the file name is empty"},
+      {"texture name empty", insert_before(6, "albedo texture \"\" 0 0 1 1"), 6, 16,
+       "albedo texture: the file name is empty"},
       {"substructure side unknown", with_line(6, replace(sub_left, "left", "middle")), 6, 14,
        "substructure: expected 'left' or 'right', found 'middle'"},
       {"substructure key unknown", with_line(6, typo_key), 6, col(typo_key, "azimut"),
        "substructure: unknown key 'azimut'"},
       {"substructure key missing", with_line(6, no_hooked), 6, end_col(no_hooked),
        "substructure left: missing required key 'hooked_fraction'"},
-      {"substructure key twice", with_line(6, sub_left + " barbules 3"), 6, col(sub_left + " barbules 3", "barbules", 2),
-       "substructure: key 'barbules' given twice"},
+      {"substructure key twice", with_line(6, sub_left + " barbules 3"), 6,
+       col(sub_left + " barbules 3", "barbules", 2), "substructure: key 'barbules' given twice"},
       {"substructure value missing", with_line(6, no_width_value), 6, end_col(no_width_value),
        "substructure: expected a value after 'ribbon_width'"},
       {"elevation zero", with_line(6, replace(sub_left, "elevation 40", "elevation 0")), 6,
        col(sub_left, "40"), "elevation: must be in (0, 90] degrees, found '0'"},
-      {"hooked fraction above one", with_line(6, replace(sub_left, "hooked_fraction 0.2", "hooked_fraction 1.5")), 6,
-       col(sub_left, "0.2 ribbon") , "hooked_fraction: must be in [0, 1], found '1.5'"},
-      {"barbules fractional", with_line(6, replace(sub_left, "barbules 20", "barbules 2.5")), 6, col(sub_left, "20"),
-       "barbules: expected a whole number >= 0, found '2.5'"},
-      {"substructure twice", insert_before(7, sub_left), 7, 1, "second 'substructure left' record (first on line 6)"},
+      {"hooked fraction above one",
+       with_line(6, replace(sub_left, "hooked_fraction 0.2", "hooked_fraction 1.5")), 6,
+       col(sub_left, "0.2 ribbon"), "hooked_fraction: must be in [0, 1], found '1.5'"},
+      {"barbules fractional", with_line(6, replace(sub_left, "barbules 20", "barbules 2.5")), 6,
+       col(sub_left, "20"), "barbules: expected a whole number >= 0, found '2.5'"},
+      {"substructure twice", insert_before(7, sub_left), 7, 1,
+       "second 'substructure left' record (first on line 6)"},
       {"curve count too high", with_line(8, "curves 3"), 19, 1,
        "the file has 2 curves but the 'curves' record on line 8 declares 3"},
       {"curve count absurd", with_line(8, "curves 18446744073709551615"), 19, 1, "the file has 2 curves"},
-      {"curve count too low", with_line(8, "curves 1"), 14, 1, "more curves than the 'curves 1' record on line 8 declares"},
+      {"curve count too low", with_line(8, "curves 1"), 14, 1,
+       "more curves than the 'curves 1' record on line 8 declares"},
       {"curves record missing", without_line(8), 8, 1, "missing 'curves N' record before the first curve"},
       {"units record missing", without_line(2), 8, 1, "missing 'units mm' record before the first curve"},
       {"header record after curves", insert_before(14, "seed 9"), 14, 1,
@@ -156,10 +169,12 @@ std::vector<Malformed> malformed_files() {
       {"point with 8 numbers", with_line(11, "0 1 0 0.5 0 0 1 9"), 11, 17, "expected 7 numbers"},
       {"NaN coordinate", with_line(11, "nan 1 0 0.5 0 0 1"), 11, 1, "x: must be finite, found 'nan'"},
       {"infinite radius", with_line(11, "0 1 0 inf 0 0 1"), 11, 7, "radius: must be finite, found 'inf'"},
-      {"float out of range", with_line(11, "0 1e39 0 0.5 0 0 1"), 11, 3, "y: '1e39' is out of range for a 32-bit float"},
+      {"float out of range", with_line(11, "0 1e39 0 0.5 0 0 1"), 11, 3,
+       "y: '1e39' is out of range for a 32-bit float"},
       {"not a number", with_line(11, "0 1 0x10 0.5 0 0 1"), 11, 5, "z: expected a number, found '0x10'"},
       {"plus sign", with_line(11, "0 +1 0 0.5 0 0 1"), 11, 3, "y: expected a number, found '+1'"},
-      {"negative radius", with_line(11, "0 1 0 -0.5 0 0 1"), 11, 7, "radius: must not be negative, found '-0.5'"},
+      {"negative radius", with_line(11, "0 1 0 -0.5 0 0 1"), 11, 7,
+       "radius: must not be negative, found '-0.5'"},
       {"zero normal", with_line(11, "0 1 0 0.5 0 0 0"), 11, 11, "normal: zero length"},
       {"too few points", with_line(9, "curve shaft none bspline 3 root 0"), 9, 26,
        "a cubic B-spline needs at least 4 control points, found 3"},
@@ -172,19 +187,22 @@ std::vector<Malformed> malformed_files() {
        "expected point 5 of 1000000000000 of the curve on line 14, found 'end'"},
       {"root above one", with_line(14, "curve barb left bspline 4 root 1.5"), 14, 32,
        "root: must be in [0, 1] (a fraction of the shaft length), found '1.5'"},
-      {"root keyword misspelt", with_line(14, "curve barb left bspline 4 rot 0.5"), 14, 27, "expected 'root', found 'rot'"},
+      {"root keyword misspelt", with_line(14, "curve barb left bspline 4 rot 0.5"), 14, 27,
+       "expected 'root', found 'rot'"},
       {"shaft with a side", with_line(9, "curve shaft left bspline 4 root 0"), 9, 13,
        "the shaft belongs to no vane: its side must be 'none'"},
       {"barb without a side", with_line(14, "curve barb none bspline 4 root 0.5"), 14, 12,
        "a barb belongs to a vane: its side must be 'left' or 'right'"},
-      {"two shafts", with_line(14, "curve shaft none bspline 4 root 0.5"), 14, 7, "second shaft (the first is on line 9)"},
+      {"two shafts", with_line(14, "curve shaft none bspline 4 root 0.5"), 14, 7,
+       "second shaft (the first is on line 9)"},
       {"unknown kind", with_line(14, "curve quill left bspline 4 root 0.5"), 14, 7,
        "curve kind: expected 'shaft' or 'barb', found 'quill'"},
       {"unknown side", with_line(14, "curve barb up bspline 4 root 0.5"), 14, 12,
        "vane side: expected 'none', 'left' or 'right', found 'up'"},
       {"unknown basis", with_line(14, "curve barb left bezier 4 root 0.5"), 14, 17,
        "basis: only 'bspline' (uniform cubic B-spline) is supported, found 'bezier'"},
-      {"curve record short", with_line(14, "curve barb left bspline 4"), 14, 26, "'curve' record is incomplete"},
+      {"curve record short", with_line(14, "curve barb left bspline 4"), 14, 26,
+       "'curve' record is incomplete"},
       {"truncated inside a curve", join({kBase.begin(), kBase.begin() + 16}), 16, 17,
        "file ends inside the curve on line 14: expected point 3 of 4 (truncated file?)"},
       {"missing end", without_line(19), 18, 17, "missing 'end' at the end of the file"},
@@ -264,8 +282,10 @@ TEST(CurveFormat, ExactMessages) {
   };
   EXPECT_EQ(message(with_line(1, "fcurves 2")),
             "f.fcurves:1:9: format version 2 is newer than this reader (1): upgrade Plumage to read it");
-  EXPECT_EQ(message(with_line(11, "0 1 0 -0.5 0 0 1")), "f.fcurves:11:7: radius: must not be negative, found '-0.5'");
-  EXPECT_EQ(message(without_line(19)), "f.fcurves:18:17: missing 'end' at the end of the file (truncated file?)");
+  EXPECT_EQ(message(with_line(11, "0 1 0 -0.5 0 0 1")),
+            "f.fcurves:11:7: radius: must not be negative, found '-0.5'");
+  EXPECT_EQ(message(without_line(19)),
+            "f.fcurves:18:17: missing 'end' at the end of the file (truncated file?)");
 }
 
 TEST(CurveFormat, CommentsBlankLinesTabsAndCrlf) {
@@ -343,11 +363,17 @@ TEST(CurveFormat, MutatedFilesNeverCrash) {
     for (int k = 0; k < edits; ++k) {
       const std::size_t at = rng() % m.size();
       switch (rng() % 3) {
-        case 0: m[at] = alphabet[rng() % (sizeof alphabet - 1)]; break;
-        case 1: m.erase(at, 1 + rng() % 8); break;
-        default: m.insert(at, 1, alphabet[rng() % (sizeof alphabet - 1)]); break;
+        case 0:
+          m[at] = alphabet[rng() % (sizeof alphabet - 1)];
+          break;
+        case 1:
+          m.erase(at, 1 + rng() % 8);
+          break;
+        default:
+          m.insert(at, 1, alphabet[rng() % (sizeof alphabet - 1)]);
+          break;
       }
-      if (m.empty()) m = "x";
+      if (m.empty()) m.push_back('x');
     }
     try {
       const Feather f = parse_fcurves(m, "mutant.fcurves");
@@ -385,8 +411,12 @@ TEST(CurveFormat, WriterRejectsInvalidFeathers) {
       broken([](Feather& f) { f.curves[1].points.resize(3); }),
       broken([](Feather& f) { f.curves[1].points[0].p.x = std::nanf(""); }),
       broken([](Feather& f) { f.curves[1].points[0].radius = -1; }),
-      broken([](Feather& f) { f.curves[1].points[0].n = {0, 0, 0}; }),
-      broken([](Feather& f) { f.curves[1].points[0].n = {0, 0, 2}; }),
+      broken([](Feather& f) {
+        f.curves[1].points[0].n = {0, 0, 0};
+      }),
+      broken([](Feather& f) {
+        f.curves[1].points[0].n = {0, 0, 2};
+      }),
       broken([](Feather& f) { f.curves[1].side = VaneSide::None; }),
       broken([](Feather& f) { f.curves[0].side = VaneSide::Left; }),
       broken([](Feather& f) { f.curves[1].kind = CurveKind::Shaft; }),
@@ -425,4 +455,18 @@ TEST(CurveFormat, FilesRoundTripAndNameThemselvesInErrors) {
   EXPECT_THROW(write_fcurves(dir / "f.fcurves", bad), Error);
   EXPECT_EQ(read_fcurves(dir / "f.fcurves"), f);
   fs::remove_all(dir);
+}
+
+TEST(CurveFormat, SpecExampleParses) {
+  // The first code block of docs/curve-format.md is a complete file.
+  const std::string doc = read_file(std::string(PLUMAGE_SOURCE_DIR) + "/docs/curve-format.md");
+  const std::size_t open = doc.find("```\n");
+  const std::size_t close = doc.find("```\n", open + 4);
+  ASSERT_NE(close, std::string::npos);
+  const Feather f = parse_fcurves(doc.substr(open + 4, close - open - 4), "curve-format.md");
+  EXPECT_EQ(f.curves.size(), 2u);
+  EXPECT_EQ(f.provenance.source, "preset:osprey-covert");
+  EXPECT_EQ(f.albedo.texture, "albedo.png");
+  EXPECT_EQ(f.right.elevation_deg, 42.5f);
+  EXPECT_EQ(parse_fcurves(format_fcurves(f)), f);
 }

@@ -52,10 +52,19 @@ inline Feather sample_feather(int barbs, int points_per_barb, std::uint64_t seed
 // A finite float from random bits: every exponent (denormals, 1e-38, 1e38) is as
 // likely as every other, and some picks are the awkward values by name.
 inline float extreme_float(std::mt19937_64& rng) {
-  static const float named[] = {0.0f, -0.0f, 1e30f, -1e30f, std::numeric_limits<float>::denorm_min(),
-                                -std::numeric_limits<float>::denorm_min(), std::numeric_limits<float>::min(),
-                                std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(),
-                                1.0f, 0.1f, 1.0f / 3.0f, 16777217.0f};
+  static const float named[] = {0.0f,
+                                -0.0f,
+                                1e30f,
+                                -1e30f,
+                                std::numeric_limits<float>::denorm_min(),
+                                -std::numeric_limits<float>::denorm_min(),
+                                std::numeric_limits<float>::min(),
+                                std::numeric_limits<float>::max(),
+                                -std::numeric_limits<float>::max(),
+                                1.0f,
+                                0.1f,
+                                1.0f / 3.0f,
+                                16777217.0f};
   if (rng() % 4 == 0) return named[rng() % std::size(named)];
   for (;;) {
     const float v = std::bit_cast<float>(static_cast<std::uint32_t>(rng()));
@@ -77,9 +86,12 @@ inline float unit_interval(std::mt19937_64& rng) {
 
 inline glm::vec3 random_unit(std::mt19937_64& rng) {
   switch (rng() % 4) {
-    case 0: return {-0.0f, 0.0f, 1.0f};
-    case 1: return {1.0f, std::numeric_limits<float>::denorm_min(), -0.0f};
-    default: break;
+    case 0:
+      return {-0.0f, 0.0f, 1.0f};
+    case 1:
+      return {1.0f, std::numeric_limits<float>::denorm_min(), -0.0f};
+    default:
+      break;
   }
   std::normal_distribution<float> g;
   for (;;) {
@@ -90,7 +102,8 @@ inline glm::vec3 random_unit(std::mt19937_64& rng) {
 
 // Printable text including the characters the format must quote or escape.
 inline std::string random_text(std::mt19937_64& rng) {
-  static const char* pieces[] = {"a", "Z", " ", "\"", "\\", "#", "preset:", "photo:", ".png", "é", "鳥", "\\\"", "'"};
+  static const char* pieces[] = {
+      "a", "Z", " ", "\"", "\\", "#", "preset:", "photo:", ".png", "é", "鳥", "\\\"", "'"};
   std::string s;
   const int n = int(rng() % 8);
   for (int i = 0; i < n; ++i) s += pieces[rng() % std::size(pieces)];
@@ -131,7 +144,8 @@ inline Feather random_feather(std::mt19937_64& rng) {
     c.root = unit_interval(rng);
     const int n = 4 + int(rng() % 9);
     for (int k = 0; k < n; ++k)
-      c.points.push_back({{extreme_float(rng), extreme_float(rng), extreme_float(rng)}, extreme_nonneg(rng),
+      c.points.push_back({{extreme_float(rng), extreme_float(rng), extreme_float(rng)},
+                          extreme_nonneg(rng),
                           random_unit(rng)});
     f.curves.push_back(std::move(c));
   }

@@ -137,3 +137,35 @@ TEST(RenderIntegrator, MisCombinesStrategiesWithoutBias) {
   // Radiance of a white lambertian card under a sphere of radiance 1: (a/d)^2 cos = 0.36.
   EXPECT_NEAR(mean_channel(render(camera, integrator, rs).developed(0), 1), 0.36, 0.36 * 0.01);
 }
+
+TEST(RenderIntegrator, LightScattersBetweenBarbs) {
+  // Two stacked barbs, the lower one shadowed by the upper one from a light above:
+  // with direct light only the lower barb sees nothing through its neighbour's
+  // shadow side; with more bounces light scattered by the upper barb reaches it.
+  Feather f;
+  const float r = 0.1f;
+  f.curves.push_back(test::straight_curve(CurveKind::Barb, {0, 0, 0}, 5, r));
+  f.curves.push_back(test::straight_curve(CurveKind::Barb, {0, 0, -1.5f * r}, 5, r));
+  const Scene scene(f, {});
+  LightSet lights;
+  lights.add(DirectionalLight{{0, 0, 1}, glm::vec3(1.0f)});
+  HairParams hp;
+  hp.sigma_a = glm::vec3(0.0f);
+  const FibreMaterial material(hp);
+  // Look at the lower barb from below.
+  CameraSpec cs;
+  cs.projection = Projection::Orthographic;
+  cs.position = glm::vec3(0, 0, -10);
+  cs.look_at = glm::vec3(0, 0, 0);
+  cs.ortho_height = 0.5f * r;
+  const Camera camera(cs, 4, 4, scene.feather_bounds());
+  RenderSettings rs;
+  rs.spp = 64;
+  rs.progress = false;
+  const PathIntegrator direct(scene, lights, material, IntegratorSettings{1, 3});
+  const PathIntegrator multi(scene, lights, material, IntegratorSettings{8, 3});
+  const double d = mean_channel(render(camera, direct, rs).developed(0), 0);
+  const double m = mean_channel(render(camera, multi, rs).developed(0), 0);
+  EXPECT_EQ(d, 0.0) << "the upper barb must shadow the lower one from a light straight above";
+  EXPECT_GT(m, 0.01);
+}

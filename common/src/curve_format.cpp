@@ -11,13 +11,20 @@
 #include <limits>
 #include <system_error>
 
+#include "float_text.h"
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
-#include "float_text.h"
+#include "plumage/common/stats.h"
 
 namespace plumage {
 
 namespace {
+
+StatCounter files_read("Curve files/Files read");
+StatCounter bytes_read("Curve files/Bytes parsed");
+StatCounter curves_read("Curve files/Curves read");
+StatCounter points_read("Curve files/Control points read");
+StatCounter bytes_written("Curve files/Bytes formatted");
 
 // ---------------------------------------------------------------- writing ---
 
@@ -65,11 +72,13 @@ void validate_feather(const Feather& f) {
   for (VaneSide s : {VaneSide::Left, VaneSide::Right}) {
     const SubstructureParams& p = f.substructure(s);
     const bool ok = p.barbules_per_side >= 0 && std::isfinite(p.ramus_radius) && p.ramus_radius >= 0 &&
-                    std::isfinite(p.barbule_radius) && p.barbule_radius >= 0 &&
-                    p.elevation_deg > 0 && p.elevation_deg <= 90 && p.azimuth_deg >= -90 &&
-                    p.azimuth_deg <= 90 && p.hooked_fraction >= 0 && p.hooked_fraction <= 1 &&
-                    std::isfinite(p.ribbon_width) && p.ribbon_width >= 0;
-    if (!ok) fail(std::string("substructure parameters of the ") + to_string(s) + " vane are out of range (docs/curve-format.md)");
+                    std::isfinite(p.barbule_radius) && p.barbule_radius >= 0 && p.elevation_deg > 0 &&
+                    p.elevation_deg <= 90 && p.azimuth_deg >= -90 && p.azimuth_deg <= 90 &&
+                    p.hooked_fraction >= 0 && p.hooked_fraction <= 1 && std::isfinite(p.ribbon_width) &&
+                    p.ribbon_width >= 0;
+    if (!ok)
+      fail(std::string("substructure parameters of the ") + to_string(s) +
+           " vane are out of range (docs/curve-format.md)");
   }
   std::size_t shafts = 0, index = 0;
   for (const Curve& c : f.curves) {
@@ -143,9 +152,8 @@ class Reader {
   std::vector<Token> tok_;
 
   // Records seen (line numbers, 0 = not yet), to reject duplicates and check required ones.
-  int units_line_ = 0, source_line_ = 0, seed_line_ = 0, color_line_ = 0, texture_line_ = 0,
-      left_line_ = 0, right_line_ = 0, curves_line_ = 0, shaft_line_ = 0,
-      last_curve_line_ = 0;
+  int units_line_ = 0, source_line_ = 0, seed_line_ = 0, color_line_ = 0, texture_line_ = 0, left_line_ = 0,
+      right_line_ = 0, curves_line_ = 0, shaft_line_ = 0, last_curve_line_ = 0;
   std::uint64_t declared_curves_ = 0;
   bool in_curves_ = false;
 };
@@ -165,7 +173,10 @@ bool Reader::next_line() {
   std::size_t i = 0;
   while (i < n) {
     const char c = s[i];
-    if (c == ' ' || c == '\t') { ++i; continue; }
+    if (c == ' ' || c == '\t') {
+      ++i;
+      continue;
+    }
     if (c == '#') break;
     const std::size_t start = i;
     if (c == '"') {
@@ -178,9 +189,13 @@ bool Reader::next_line() {
           i += 2;
           continue;
         }
-        if (s[i] == '"') { ++i; break; }
+        if (s[i] == '"') {
+          ++i;
+          break;
+        }
         if (static_cast<unsigned char>(s[i]) < 0x20 || s[i] == 0x7f)
-          fail(static_cast<int>(i) + 1, "control character in a string: strings are one line of printable text");
+          fail(static_cast<int>(i) + 1,
+               "control character in a string: strings are one line of printable text");
         ++i;
       }
       if (i < n && s[i] != ' ' && s[i] != '\t' && s[i] != '#')
@@ -223,8 +238,7 @@ float Reader::nonneg_float(const Token& t, const char* what) const {
   return v;
 }
 
-float Reader::ranged_float(const Token& t, const char* what, float lo, float hi,
-                           const char* range) const {
+float Reader::ranged_float(const Token& t, const char* what, float lo, float hi, const char* range) const {
   const float v = finite_float(t, what);
   if (v < lo || v > hi)
     fail(t, std::string(what) + ": must be in " + range + ", found '" + std::string(t.text) + "'");
@@ -258,11 +272,12 @@ std::string Reader::quoted(const Token& t, const char* what) const {
 void Reader::expect_count(std::size_t n, const std::string& form) const {
   if (tok_.size() < n)
     fail(end_column(), "'" + std::string(tok_[0].text) + "' record is incomplete: expected '" + form + "'");
-  if (tok_.size() > n)
-    fail(tok_[n], "unexpected '" + std::string(tok_[n].text) + "' after '" + form + "'");
+  if (tok_.size() > n) fail(tok_[n], "unexpected '" + std::string(tok_[n].text) + "' after '" + form + "'");
 }
 
 void Reader::parse_header_line() {
+  if (text_.starts_with("\xEF\xBB\xBF"))
+    throw Error(Location{file_, 1, 1}, "the file starts with a UTF-8 byte-order mark: save it without one");
   if (!next_line()) line_no_ = 1;  // an empty file: point at its first line
   if (line_no_ != 1 || tok_.empty() || tok_[0].text != "fcurves")
     fail(1, "missing header: the first line must be 'fcurves " + std::to_string(kFcurvesVersion) +
@@ -280,20 +295,26 @@ void Reader::parse_albedo(Feather& f) {
   if (tok_.size() < 2) fail(end_column(), "albedo: expected 'color' or 'texture'");
   const Token& kind = tok_[1];
   if (kind.text == "color") {
-    if (color_line_) fail(tok_[0], "second 'albedo color' record (first on line " + std::to_string(color_line_) + ")");
+    if (color_line_)
+      fail(tok_[0], "second 'albedo color' record (first on line " + std::to_string(color_line_) + ")");
     color_line_ = line_no_;
     expect_count(5, "albedo color R G B");
     for (int i = 0; i < 3; ++i) f.albedo.color[i] = nonneg_float(tok_[2 + i], "albedo colour");
   } else if (kind.text == "texture") {
-    if (texture_line_) fail(tok_[0], "second 'albedo texture' record (first on line " + std::to_string(texture_line_) + ")");
+    if (texture_line_)
+      fail(tok_[0], "second 'albedo texture' record (first on line " + std::to_string(texture_line_) + ")");
     texture_line_ = line_no_;
     expect_count(7, "albedo texture \"FILE\" XMIN YMIN XMAX YMAX");
     f.albedo.texture = quoted(tok_[2], "albedo texture");
     if (f.albedo.texture.empty()) fail(tok_[2], "albedo texture: the file name is empty");
-    f.albedo.rect_min = {finite_float(tok_[3], "albedo texture XMIN"), finite_float(tok_[4], "albedo texture YMIN")};
-    f.albedo.rect_max = {finite_float(tok_[5], "albedo texture XMAX"), finite_float(tok_[6], "albedo texture YMAX")};
-    if (!(f.albedo.rect_min.x < f.albedo.rect_max.x)) fail(tok_[5], "albedo texture: XMAX must be greater than XMIN");
-    if (!(f.albedo.rect_min.y < f.albedo.rect_max.y)) fail(tok_[6], "albedo texture: YMAX must be greater than YMIN");
+    f.albedo.rect_min = {finite_float(tok_[3], "albedo texture XMIN"),
+                         finite_float(tok_[4], "albedo texture YMIN")};
+    f.albedo.rect_max = {finite_float(tok_[5], "albedo texture XMAX"),
+                         finite_float(tok_[6], "albedo texture YMAX")};
+    if (!(f.albedo.rect_min.x < f.albedo.rect_max.x))
+      fail(tok_[5], "albedo texture: XMAX must be greater than XMIN");
+    if (!(f.albedo.rect_min.y < f.albedo.rect_max.y))
+      fail(tok_[6], "albedo texture: YMAX must be greater than YMIN");
   } else {
     fail(kind, "albedo: expected 'color' or 'texture', found '" + std::string(kind.text) + "'");
   }
@@ -304,16 +325,19 @@ void Reader::parse_substructure(Feather& f) {
   const Token& side = tok_[1];
   int* seen = nullptr;
   SubstructureParams p;
-  if (side.text == "left") seen = &left_line_;
-  else if (side.text == "right") seen = &right_line_;
-  else fail(side, "substructure: expected 'left' or 'right', found '" + std::string(side.text) + "'");
+  if (side.text == "left")
+    seen = &left_line_;
+  else if (side.text == "right")
+    seen = &right_line_;
+  else
+    fail(side, "substructure: expected 'left' or 'right', found '" + std::string(side.text) + "'");
   if (*seen)
     fail(tok_[0], "second 'substructure " + std::string(side.text) + "' record (first on line " +
                       std::to_string(*seen) + ")");
   *seen = line_no_;
 
-  static constexpr const char* kKeys[] = {"barbules", "ramus_radius", "barbule_radius", "elevation",
-                                          "azimuth", "hooked_fraction", "ribbon_width"};
+  static constexpr const char* kKeys[] = {"barbules", "ramus_radius",    "barbule_radius", "elevation",
+                                          "azimuth",  "hooked_fraction", "ribbon_width"};
   constexpr int kNumKeys = 7;
   int key_col[kNumKeys] = {};
   for (std::size_t i = 2; i < tok_.size(); i += 2) {
@@ -322,10 +346,12 @@ void Reader::parse_substructure(Feather& f) {
     while (k < kNumKeys && key.text != kKeys[k]) ++k;
     if (k == kNumKeys)
       fail(key, "substructure: unknown key '" + std::string(key.text) +
-                    "' (known: barbules ramus_radius barbule_radius elevation azimuth hooked_fraction ribbon_width)");
+                    "' (known: barbules ramus_radius barbule_radius elevation azimuth hooked_fraction "
+                    "ribbon_width)");
     if (key_col[k]) fail(key, "substructure: key '" + std::string(key.text) + "' given twice");
     key_col[k] = key.column;
-    if (i + 1 >= tok_.size()) fail(end_column(), "substructure: expected a value after '" + std::string(key.text) + "'");
+    if (i + 1 >= tok_.size())
+      fail(end_column(), "substructure: expected a value after '" + std::string(key.text) + "'");
     const Token& v = tok_[i + 1];
     switch (k) {
       case 0: {
@@ -334,22 +360,32 @@ void Reader::parse_substructure(Feather& f) {
         p.barbules_per_side = static_cast<int>(n);
         break;
       }
-      case 1: p.ramus_radius = nonneg_float(v, "ramus_radius"); break;
-      case 2: p.barbule_radius = nonneg_float(v, "barbule_radius"); break;
+      case 1:
+        p.ramus_radius = nonneg_float(v, "ramus_radius");
+        break;
+      case 2:
+        p.barbule_radius = nonneg_float(v, "barbule_radius");
+        break;
       case 3:
         p.elevation_deg = finite_float(v, "elevation");
         if (!(p.elevation_deg > 0 && p.elevation_deg <= 90))
           fail(v, "elevation: must be in (0, 90] degrees, found '" + std::string(v.text) + "'");
         break;
-      case 4: p.azimuth_deg = ranged_float(v, "azimuth", -90, 90, "[-90, 90] degrees"); break;
-      case 5: p.hooked_fraction = ranged_float(v, "hooked_fraction", 0, 1, "[0, 1]"); break;
-      case 6: p.ribbon_width = nonneg_float(v, "ribbon_width"); break;
+      case 4:
+        p.azimuth_deg = ranged_float(v, "azimuth", -90, 90, "[-90, 90] degrees");
+        break;
+      case 5:
+        p.hooked_fraction = ranged_float(v, "hooked_fraction", 0, 1, "[0, 1]");
+        break;
+      case 6:
+        p.ribbon_width = nonneg_float(v, "ribbon_width");
+        break;
     }
   }
   for (int k = 0; k < kNumKeys; ++k)
     if (!key_col[k])
-      fail(end_column(), "substructure " + std::string(side.text) + ": missing required key '" +
-                             kKeys[k] + "'");
+      fail(end_column(),
+           "substructure " + std::string(side.text) + ": missing required key '" + kKeys[k] + "'");
   f.substructure(side.text == "left" ? VaneSide::Left : VaneSide::Right) = p;
 }
 
@@ -371,8 +407,8 @@ void Reader::parse_record(Feather& f) {
                     " has more point lines than its NPOINTS says");
     fail(key, "unexpected numbers outside a curve: control points follow a 'curve' record");
   }
-  const bool header = k == "units" || k == "source" || k == "seed" || k == "albedo" ||
-                      k == "substructure" || k == "curves";
+  const bool header =
+      k == "units" || k == "source" || k == "seed" || k == "albedo" || k == "substructure" || k == "curves";
   if (!header)
     fail(key, "unknown record '" + std::string(k) +
                   "' (expected units, source, seed, albedo, substructure, curves, curve or end)");
@@ -425,7 +461,8 @@ void Reader::parse_point(ControlPoint& p) {
   p.n.z = finite_float(tok_[6], "nz");
   const glm::dvec3 n(p.n);
   const double len = std::sqrt(glm::dot(n, n));
-  if (!(len > 1e-6)) fail(tok_[4], "normal: zero length, expected a unit vector (the vane's dorsal direction)");
+  if (!(len > 1e-6))
+    fail(tok_[4], "normal: zero length, expected a unit vector (the vane's dorsal direction)");
   // Hand-edited normals need not be exactly unit; within tolerance they are kept
   // bit-exact so written files round-trip.
   if (std::abs(len - 1.0) > kNormalTolerance) p.n = glm::vec3(n / len);
@@ -441,13 +478,20 @@ void Reader::parse_curve(Feather& f) {
     fail(tok_[0], "more curves than the 'curves " + std::to_string(declared_curves_) + "' record on line " +
                       std::to_string(curves_line_) + " declares");
   Curve c;
-  if (tok_[1].text == "shaft") c.kind = CurveKind::Shaft;
-  else if (tok_[1].text == "barb") c.kind = CurveKind::Barb;
-  else fail(tok_[1], "curve kind: expected 'shaft' or 'barb', found '" + std::string(tok_[1].text) + "'");
-  if (tok_[2].text == "none") c.side = VaneSide::None;
-  else if (tok_[2].text == "left") c.side = VaneSide::Left;
-  else if (tok_[2].text == "right") c.side = VaneSide::Right;
-  else fail(tok_[2], "vane side: expected 'none', 'left' or 'right', found '" + std::string(tok_[2].text) + "'");
+  if (tok_[1].text == "shaft")
+    c.kind = CurveKind::Shaft;
+  else if (tok_[1].text == "barb")
+    c.kind = CurveKind::Barb;
+  else
+    fail(tok_[1], "curve kind: expected 'shaft' or 'barb', found '" + std::string(tok_[1].text) + "'");
+  if (tok_[2].text == "none")
+    c.side = VaneSide::None;
+  else if (tok_[2].text == "left")
+    c.side = VaneSide::Left;
+  else if (tok_[2].text == "right")
+    c.side = VaneSide::Right;
+  else
+    fail(tok_[2], "vane side: expected 'none', 'left' or 'right', found '" + std::string(tok_[2].text) + "'");
   if (c.kind == CurveKind::Shaft) {
     if (c.side != VaneSide::None) fail(tok_[2], "the shaft belongs to no vane: its side must be 'none'");
     if (shaft_line_) fail(tok_[1], "second shaft (the first is on line " + std::to_string(shaft_line_) + ")");
@@ -460,7 +504,8 @@ void Reader::parse_curve(Feather& f) {
     fail(tok_[3], "basis: only 'bspline' (uniform cubic B-spline) is supported, found '" +
                       std::string(tok_[3].text) + "'");
   const std::uint64_t npoints = unsigned_int(tok_[4], "NPOINTS");
-  if (npoints < 4) fail(tok_[4], "a cubic B-spline needs at least 4 control points, found " + std::string(tok_[4].text));
+  if (npoints < 4)
+    fail(tok_[4], "a cubic B-spline needs at least 4 control points, found " + std::string(tok_[4].text));
   if (tok_[5].text != "root") fail(tok_[5], "expected 'root', found '" + std::string(tok_[5].text) + "'");
   c.root = ranged_float(tok_[6], "root", 0, 1, "[0, 1] (a fraction of the shaft length)");
 
@@ -495,17 +540,16 @@ Feather Reader::parse() {
   Feather f;
   parse_header_line();
   for (;;) {
-    if (!next_line())
-      fail(end_column(), "missing 'end' at the end of the file (truncated file?)");
+    if (!next_line()) fail(end_column(), "missing 'end' at the end of the file (truncated file?)");
     if (tok_.empty()) continue;
     if (tok_[0].text == "end") {
       expect_count(1, "end");
       if (!units_line_) fail(tok_[0], "missing 'units mm' record");
       if (!curves_line_) fail(tok_[0], "missing 'curves N' record");
       if (f.curves.size() != declared_curves_)
-        fail(tok_[0], "the file has " + std::to_string(f.curves.size()) + " curves but the 'curves' record on line " +
-                          std::to_string(curves_line_) + " declares " + std::to_string(declared_curves_) +
-                          " (truncated or edited file?)");
+        fail(tok_[0], "the file has " + std::to_string(f.curves.size()) +
+                          " curves but the 'curves' record on line " + std::to_string(curves_line_) +
+                          " declares " + std::to_string(declared_curves_) + " (truncated or edited file?)");
       break;
     }
     if (tok_[0].text.front() == '"') fail(tok_[0], "expected a record name, found a string");
@@ -600,6 +644,7 @@ std::string format_fcurves(const Feather& f) {
     }
   }
   out += "end\n";
+  bytes_written += static_cast<std::int64_t>(out.size());
   return out;
 }
 
@@ -608,7 +653,12 @@ void write_fcurves(const std::filesystem::path& path, const Feather& feather) {
 }
 
 Feather parse_fcurves(std::string_view text, const std::string& filename) {
-  return Reader(text, filename).parse();
+  Feather f = Reader(text, filename).parse();
+  ++files_read;
+  bytes_read += static_cast<std::int64_t>(text.size());
+  curves_read += static_cast<std::int64_t>(f.curves.size());
+  points_read += static_cast<std::int64_t>(f.num_control_points());
+  return f;
 }
 
 Feather read_fcurves(const std::filesystem::path& path) {

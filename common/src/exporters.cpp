@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <type_traits>
 
 #include "float_text.h"
 #include "plumage/common/atomic_file.h"
@@ -42,11 +43,21 @@ void append_vec3(std::string& out, const glm::vec3& v) {
 }
 
 // Value of a uniform cubic B-spline at joint k (0 <= k <= n-3; joint 0 is the
-// start, joint n-3 the end), where the segment basis is (1, 4, 1) / 6.
+// start, joint n-3 the end), where the segment basis is (1, 4, 1) / 6. In double,
+// so control values near the float limit do not overflow on the way.
 template <class T>
-T at_joint(const std::vector<ControlPoint>& cp, std::size_t k, T ControlPoint::*field) {
-  return (cp[k].*field + T(4) * (cp[k + 1].*field) + cp[k + 2].*field) / T(6);
+auto at_joint(const std::vector<ControlPoint>& cp, std::size_t k, T ControlPoint::*field) {
+  using D = std::conditional_t<std::is_same_v<T, float>, double, glm::dvec3>;
+  return (D(cp[k].*field) + 4.0 * D(cp[k + 1].*field) + D(cp[k + 2].*field)) / 6.0;
 }
+
+// Numbers written for other programs stay finite: a float-range feather can
+// still give a camera distance or width beyond the float range.
+float finite_float(double v) {
+  constexpr double kMax = std::numeric_limits<float>::max();
+  return static_cast<float>(std::clamp(v, -kMax, kMax));
+}
+glm::vec3 finite_vec3(const glm::dvec3& v) { return {finite_float(v.x), finite_float(v.y), finite_float(v.z)}; }
 
 // A string for a pbrt or OBJ comment line: one line, printable.
 std::string one_line(const std::string& s) {
@@ -96,7 +107,7 @@ Framing frame_feather(const Feather& f) {
   const double half = std::max({0.5 * (hi.x - lo.x), 0.5 * (hi.y - lo.y), 1e-3});
   const double fov = 30.0;
   const double distance = 1.1 * half / std::tan(0.5 * fov * std::numbers::pi / 180.0) + 0.5 * (hi.z - lo.z);
-  return {glm::vec3(centre + glm::dvec3(0, 0, distance)), glm::vec3(centre), float(fov)};
+  return {finite_vec3(centre + glm::dvec3(0, 0, distance)), finite_vec3(centre), float(fov)};
 }
 
 enum class PbrtVersion { V3, V4 };
@@ -116,16 +127,16 @@ void append_pbrt_curve(std::string& out, const Curve& c, PbrtVersion v) {
   // pbrt interpolates width linearly from the curve's start to its end; our
   // radius is a B-spline per control point, so its end values are used.
   out += " ]\n  \"float width0\" [ ";
-  append_float(out, 2 * at_joint(cp, 0, &ControlPoint::radius));
+  append_float(out, finite_float(2 * at_joint(cp, 0, &ControlPoint::radius)));
   out += " ] \"float width1\" [ ";
-  append_float(out, 2 * at_joint(cp, segments, &ControlPoint::radius));
+  append_float(out, finite_float(2 * at_joint(cp, segments, &ControlPoint::radius)));
   out += " ]";
   if (ribbon) {
     // Ribbons need the normal at each segment joint: segments + 1 of them.
     out += "\n  \"normal N\" [";
     for (std::size_t k = 0; k <= segments; ++k) {
       // Never zero: the middle weight 4/6 outweighs the other two (1/6 each) for unit normals.
-      const glm::dvec3 nn(at_joint(cp, k, &ControlPoint::n));
+      const glm::dvec3 nn = at_joint(cp, k, &ControlPoint::n);
       const glm::vec3 unit(nn / glm::length(nn));
       out += ' ';
       append_vec3(out, unit);
@@ -201,8 +212,12 @@ ExportFormat parse_export_format(std::string_view name) {
   throw Error("unknown export format '" + std::string(name) + "': use one of " + known);
 }
 
-std::string format_pbrt_v4(const Feather& f, const ExportOptions& o) { return format_pbrt(f, o, PbrtVersion::V4); }
-std::string format_pbrt_v3(const Feather& f, const ExportOptions& o) { return format_pbrt(f, o, PbrtVersion::V3); }
+std::string format_pbrt_v4(const Feather& f, const ExportOptions& o) {
+  return format_pbrt(f, o, PbrtVersion::V4);
+}
+std::string format_pbrt_v3(const Feather& f, const ExportOptions& o) {
+  return format_pbrt(f, o, PbrtVersion::V3);
+}
 
 std::string format_mitsuba_curves(const Feather& f) {
   validate_feather(f);
@@ -228,9 +243,10 @@ std::string format_obj(const Feather& f) {
   std::string out;
   out.reserve(512 + f.num_control_points() * 40);
   append_provenance_comment(out, f, "#");
-  out += "# Uniform cubic B-splines as OBJ free-form curves (knots 0, 1, 2, ...; the curve\n"
-         "# spans parameters [3, n] for n control points). OBJ has no radius or normal:\n"
-         "# they stay in the .fcurves file.\n";
+  out +=
+      "# Uniform cubic B-splines as OBJ free-form curves (knots 0, 1, 2, ...; the curve\n"
+      "# spans parameters [3, n] for n control points). OBJ has no radius or normal:\n"
+      "# they stay in the .fcurves file.\n";
   std::size_t next_vertex = 1;  // OBJ vertex indices are 1-based and global
   std::size_t barb = 0;
   for (const Curve& c : f.curves) {
@@ -268,11 +284,16 @@ std::string format_obj(const Feather& f) {
 
 std::string export_text(const Feather& f, ExportFormat format, const ExportOptions& o) {
   switch (format) {
-    case ExportFormat::Fcurves: return format_fcurves(f);
-    case ExportFormat::Pbrt: return format_pbrt_v4(f, o);
-    case ExportFormat::PbrtV3: return format_pbrt_v3(f, o);
-    case ExportFormat::Mitsuba: return format_mitsuba_curves(f);
-    case ExportFormat::Obj: return format_obj(f);
+    case ExportFormat::Fcurves:
+      return format_fcurves(f);
+    case ExportFormat::Pbrt:
+      return format_pbrt_v4(f, o);
+    case ExportFormat::PbrtV3:
+      return format_pbrt_v3(f, o);
+    case ExportFormat::Mitsuba:
+      return format_mitsuba_curves(f);
+    case ExportFormat::Obj:
+      return format_obj(f);
   }
   throw Error("unknown export format");
 }

@@ -70,6 +70,18 @@ struct FibreScatter final : Scatter {
 
 }  // namespace
 
+// Hair mode shades a barb as one fibre across its ribbon; substructure mode shades
+// the ramus or barbule the hit landed on, in its own frame (Baron et al. 2021, Eq. 1).
+FibreFrame PathIntegrator::fibre_frame_at(const SurfaceHit& hit, const glm::vec3& wo) const {
+  if (hit.kind == HitKind::Barb && scene_.options().mode == ShadingMode::Substructure) {
+    const StructureSample ss = scene_.structure_at(hit);
+    return structure_fibre_frame(ss.frame, ss.hit.h, wo);
+  }
+  const CurvePoint cp = scene_.curve_point(hit);
+  return hit.kind == HitKind::Barb ? flat_fibre_frame(cp.dp, wo, hit.v)
+                                   : round_fibre_frame(cp.dp, wo, cp.p, cp.radius, hit.p);
+}
+
 PathIntegrator::PathIntegrator(const Scene& scene, const LightSet& lights, const FibreMaterial& material,
                                const IntegratorSettings& settings)
     : scene_(scene), lights_(lights), material_(material), settings_(settings) {}
@@ -108,10 +120,7 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
     if (hit.kind == HitKind::Backdrop) {
       bsdf = &diffuse.emplace(safe_normalize(hit.ng), wo, scene_.options().backdrop.albedo);
     } else {
-      const CurvePoint cp = scene_.curve_point(hit);
-      const FibreFrame ff = hit.kind == HitKind::Barb ? flat_fibre_frame(cp.dp, wo, hit.v)
-                                                      : round_fibre_frame(cp.dp, wo, cp.p, cp.radius, hit.p);
-      bsdf = &fibre.emplace(ff, material_.at(hit.p), wo);
+      bsdf = &fibre.emplace(fibre_frame_at(hit, wo), material_.at(hit.p), wo);
     }
 
     // Next-event estimation: one light, one shadow ray.

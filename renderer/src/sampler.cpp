@@ -1,6 +1,7 @@
 #include "plumage/renderer/sampler.h"
 
 #include <array>
+#include <bit>
 
 #include "plumage/common/error.h"
 
@@ -67,9 +68,9 @@ std::uint32_t nested_uniform_scramble(std::uint32_t x, std::uint32_t seed) {
 }
 
 std::uint32_t sobol(std::uint32_t i, int d) {
+  if (d == 0) return reverse_bits(i);  // van der Corput
   std::uint32_t x = 0;
-  for (int k = 0; i; i >>= 1, ++k)
-    if (i & 1u) x ^= kSobol.v[d][k];
+  for (; i; i &= i - 1) x ^= kSobol.v[d][std::countr_zero(i)];
   return x;
 }
 
@@ -96,8 +97,16 @@ glm::vec4 PixelSampler::next4() {
   if (kind_ == SamplerKind::Sobol) {
     // Burley 2020 §4: shuffle the index, then Owen-scramble each dimension with its own seed.
     const std::uint32_t i = nested_uniform_scramble(index_, pattern_seed);
+    // The shuffled index is a full 32-bit number: walk its set bits once for dimensions 1-3.
+    std::uint32_t x[4] = {reverse_bits(i), 0, 0, 0};
+    for (std::uint32_t b = i; b; b &= b - 1) {
+      const int k = std::countr_zero(b);
+      x[1] ^= kSobol.v[1][k];
+      x[2] ^= kSobol.v[2][k];
+      x[3] ^= kSobol.v[3][k];
+    }
     for (int d = 0; d < 4; ++d)
-      out[d] = to_unit(nested_uniform_scramble(sobol(i, d), hash_combine(pattern_seed, std::uint32_t(d) + 1)));
+      out[d] = to_unit(nested_uniform_scramble(x[d], hash_combine(pattern_seed, std::uint32_t(d) + 1)));
   } else {
     const std::uint32_t s = hash_combine(pattern_seed, index_);
     for (int d = 0; d < 4; ++d) out[d] = to_unit(hash_combine(s, std::uint32_t(d) + 0x51ed27u));

@@ -11,6 +11,7 @@
 
 #include "plumage/common/bspline.h"
 #include "plumage/common/error.h"
+#include "plumage/common/stats.h"
 
 namespace plumage {
 namespace {
@@ -43,7 +44,49 @@ void throw_if_device_error(const char* during) {
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+StatCounter g_gap_rejections("Substructure/Candidate hits rejected in gaps");
+// Filter functions run deep inside Embree: they tally here and the query adds the
+// tally to the shared counter once, instead of one atomic add per rejection.
+thread_local std::int64_t t_gap_rejections = 0;
+
+void flush_gap_rejections() {
+  if (t_gap_rejections) {
+    g_gap_rejections += t_gap_rejections;
+    t_gap_rejections = 0;
+  }
+}
+
+// Ray id bit: keep hits in the gaps (the structure AOV wants to see them).
+constexpr unsigned kKeepGapsId = 1u;
+
 }  // namespace
+
+// Substructure mode's intersection and occlusion filter on the barb ribbons: a
+// candidate hit in empty space (G_b = empty, Eq. 1's T with eta = 1) is rejected,
+// so Embree continues traversal past it; no shading and no re-trace are spent on
+// it, and shadow rays pass through gaps.
+struct SubstructureFilter {
+  static void reject_gaps(const RTCFilterFunctionNArguments* args) {
+    const auto* scene = static_cast<const Scene*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+      if (!args->valid[i]) continue;
+      if (RTCRayN_id(args->ray, args->N, i) & kKeepGapsId) continue;
+      const glm::vec3 o(RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                        RTCRayN_org_z(args->ray, args->N, i));
+      const glm::vec3 d(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                        RTCRayN_dir_z(args->ray, args->N, i));
+      // During filtering Embree stores the candidate hit distance in tfar.
+      const glm::vec3 p = o + RTCRayN_tfar(args->ray, args->N, i) * d;
+      const std::uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
+      const StructureSample ss = scene->ribbon_point(prim, RTCHitN_u(args->hit, args->N, i), p, false);
+      const Scene::RibbonSegment& rs = scene->ribbon_segments_[prim];
+      if (rs.vane->classify(ss.s, ss.w, rs.length).structure == Structure::Empty) {
+        args->valid[i] = 0;
+        ++t_gap_rejections;
+      }
+    }
+  }
+};
 
 // What a ray query hands to the context filter: Embree passes our context
 // pointer through, so the ray's skip rule travels with it.
@@ -84,8 +127,6 @@ struct Scene::Embree {
 
 Scene::Scene(const Feather& feather, const SceneOptions& options)
     : feather_(feather), options_(options), rtc_(std::make_unique<Embree>()) {
-  if (options.mode == ShadingMode::Substructure)
-    throw Error("--shading substructure is not implemented yet (issue 5); use --shading hair");
   for (std::size_t i = 0; i < feather_.curves.size(); ++i) {
     const Curve& c = feather_.curves[i];
     const std::string which = std::string(to_string(c.kind)) + " curve #" + std::to_string(i);
@@ -103,21 +144,27 @@ Scene::Scene(const Feather& feather, const SceneOptions& options)
   rtcSetSceneFlags(rtc_->scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
   rtcSetSceneBuildQuality(rtc_->scene, RTC_BUILD_QUALITY_HIGH);
 
+  if (options_.mode == ShadingMode::Substructure) build_substructure();
+
   // Convex-hull property: the control points' box (grown by the radius) holds the curve.
   bounds_.lo = glm::vec3(std::numeric_limits<float>::infinity());
   bounds_.hi = -bounds_.lo;
   for (const Curve& c : feather_.curves)
     for (const ControlPoint& cp : c.points) {
-      bounds_.lo = glm::min(bounds_.lo, cp.p - glm::vec3(cp.radius));
-      bounds_.hi = glm::max(bounds_.hi, cp.p + glm::vec3(cp.radius));
-      max_radius_ = std::max(max_radius_, cp.radius);
-      if (c.kind == CurveKind::Barb) max_barb_radius_ = std::max(max_barb_radius_, cp.radius);
+      // In substructure mode a barb is as wide as its vane's ribbon.
+      const float r = c.kind == CurveKind::Barb && options_.mode == ShadingMode::Substructure
+                          ? (c.side == VaneSide::Right ? right_ : left_)->half_width()
+                          : cp.radius;
+      bounds_.lo = glm::min(bounds_.lo, cp.p - glm::vec3(r));
+      bounds_.hi = glm::max(bounds_.hi, cp.p + glm::vec3(r));
+      max_radius_ = std::max(max_radius_, r);
+      if (c.kind == CurveKind::Barb) max_barb_radius_ = std::max(max_barb_radius_, r);
     }
 
   add_curves(shaft_, CurveKind::Shaft, RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE);
-  // Substructure mode will add the barbs as RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE
-  // with a normal buffer and intersection/occlusion filters that test rami and barbules.
-  add_curves(barbs_, CurveKind::Barb, RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE);
+  add_curves(barbs_, CurveKind::Barb,
+             options_.mode == ShadingMode::Substructure ? RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE
+                                                        : RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE);
   scene_bounds_ = bounds_;
   if (options_.backdrop.enabled) add_backdrop();
 
@@ -132,7 +179,9 @@ void Scene::add_curves(CurveGeometry& g, CurveKind kind, int rtc_type) {
     const Curve& c = feather_.curves[ci];
     if (c.kind != kind) continue;
     const auto first = std::uint32_t(g.vertices.size());
-    for (const ControlPoint& cp : c.points) g.vertices.emplace_back(cp.p, cp.radius);
+    const bool in_vane = rtc_type == RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE;
+    for (const ControlPoint& cp : c.points)
+      g.vertices.emplace_back(cp.p, in_vane ? (c.side == VaneSide::Right ? right_ : left_)->half_width() : cp.radius);
     for (std::uint32_t s = 0; s + 3 < c.points.size(); ++s) {
       g.indices.push_back(first + s);
       g.prims.push_back({ci, first + s});
@@ -145,6 +194,13 @@ void Scene::add_curves(CurveGeometry& g, CurveKind kind, int rtc_type) {
                              sizeof(glm::vec4), g.vertices.size());
   rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, g.indices.data(), 0,
                              sizeof(std::uint32_t), g.indices.size());
+  if (rtc_type == RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE) {
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, barb_normals_.data(), 0,
+                               sizeof(glm::vec3), barb_normals_.size());
+    rtcSetGeometryUserData(geom, const_cast<Scene*>(this));
+    rtcSetGeometryIntersectFilterFunction(geom, &SubstructureFilter::reject_gaps);
+    rtcSetGeometryOccludedFilterFunction(geom, &SubstructureFilter::reject_gaps);
+  }
   rtcCommitGeometry(geom);
   g.id = rtcAttachGeometry(rtc_->scene, geom);
   rtcReleaseGeometry(geom);
@@ -182,7 +238,7 @@ const Scene::CurveGeometry* Scene::curve_geometry(std::uint32_t geom) const {
 
 void* Scene::embree_scene() const { return rtc_->scene; }
 
-bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
+bool Scene::intersect(const Ray& ray, SurfaceHit& hit, bool keep_gaps) const {
   SceneFilter ctx(this, &ray);
   RTCRayHit rh;
   rh.ray.org_x = ray.o.x; rh.ray.org_y = ray.o.y; rh.ray.org_z = ray.o.z;
@@ -191,11 +247,12 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
   rh.ray.tfar = ray.tfar;
   rh.ray.time = 0;
   rh.ray.mask = 0xffffffffu;
-  rh.ray.id = 0;
+  rh.ray.id = keep_gaps ? kKeepGapsId : 0;
   rh.ray.flags = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(rtc_->scene, &ctx.rtc, &rh);
+  flush_gap_rejections();
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
     hit.kind = HitKind::None;
     return false;
@@ -229,6 +286,7 @@ bool Scene::occluded(const Ray& ray) const {
   r.id = 0;
   r.flags = 0;
   rtcOccluded1(rtc_->scene, &ctx.rtc, &r);
+  flush_gap_rejections();
   return r.tfar < 0;  // Embree sets tfar = -inf on occlusion
 }
 
@@ -273,6 +331,74 @@ CurvePoint Scene::curve_point(const SurfaceHit& hit) const {
     dp += float(db[i]) * cp[i];
   }
   return {glm::vec3(p), glm::vec3(dp), p.w};
+}
+
+// Substructure mode: one BarbSubstructure per vane (validated here, so a bad
+// parameter fails before any ray is traced), the vane normals Embree orients the
+// ribbons with, and per segment a table of arc length s at evenly spaced u.
+void Scene::build_substructure() {
+  for (VaneSide side : {VaneSide::Left, VaneSide::Right})
+    if (feather_.count(side) > 0)
+      (side == VaneSide::Left ? left_ : right_)
+          .emplace(feather_.substructure(side), side, "--shading substructure");
+  for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci) {
+    const Curve& c = feather_.curves[ci];
+    if (c.kind != CurveKind::Barb) continue;
+    if (c.side == VaneSide::None)
+      throw Error("barb curve #" + std::to_string(ci) +
+                  " belongs to no vane; substructure shading needs 'left' or 'right' to tell distal from proximal");
+    std::vector<glm::dvec3> pts;
+    for (const ControlPoint& cp : c.points) {
+      pts.emplace_back(cp.p);
+      barb_normals_.push_back(safe_normalize(cp.n));
+    }
+    const BSpline3 spline(pts);
+    const ArcLengthTable table(spline);
+    const std::size_t segs = spline.num_segments();
+    for (std::size_t seg = 0; seg < segs; ++seg) {
+      ribbon_segments_.push_back({c.side == VaneSide::Right ? &*right_ : &*left_, std::uint32_t(arc_s_.size()),
+                                  float(table.length())});
+      for (int j = 0; j <= kArcSamples; ++j)
+        arc_s_.push_back(float(table.s_at((double(seg) + double(j) / kArcSamples) / double(segs))));
+    }
+  }
+}
+
+StructureSample Scene::ribbon_point(std::uint32_t prim, float u, const glm::vec3& p, bool full_frame) const {
+  const std::uint32_t first = barbs_.prims[prim].first_cp;
+  const glm::vec4* cp = &barbs_.vertices[first];
+  const glm::vec3* np = &barb_normals_[first];
+  const auto bu = CubicBSplineBasis::eval(u);
+  const auto db = CubicBSplineBasis::deriv(u);
+  glm::vec3 c(0), dc(0), n(0);
+  for (int i = 0; i < 4; ++i) {
+    c += float(bu[i]) * glm::vec3(cp[i]);
+    dc += float(db[i]) * glm::vec3(cp[i]);
+    n += float(bu[i]) * np[i];
+  }
+  StructureSample ss;
+  if (full_frame) {
+    ss.barb = frame_from_tangent_normal(dc, n);
+    ss.w = glm::dot(p - c, ss.barb.b);
+  } else {
+    // The filter needs only w: b = n x t without building the whole frame. The vane
+    // normal is never along the barb, so the cross product does not vanish.
+    const glm::vec3 b = glm::cross(n, dc);
+    ss.w = glm::dot(p - c, b) / std::sqrt(std::fmax(glm::dot(b, b), 1e-30f));
+  }
+  const float x = std::clamp(u, 0.0f, 1.0f) * kArcSamples;
+  const int j = std::min(int(x), kArcSamples - 1);
+  const float* s = &arc_s_[ribbon_segments_[prim].arc + j];
+  ss.s = s[0] + (x - float(j)) * (s[1] - s[0]);
+  return ss;
+}
+
+StructureSample Scene::structure_at(const SurfaceHit& hit) const {
+  StructureSample ss = ribbon_point(hit.prim, hit.u, hit.p, true);
+  const RibbonSegment& rs = ribbon_segments_[hit.prim];
+  ss.hit = rs.vane->classify(ss.s, ss.w, rs.length);
+  ss.frame = rs.vane->frame(ss.barb, ss.hit, ss.w);
+  return ss;
 }
 
 }  // namespace plumage

@@ -25,7 +25,7 @@ ExportFormat parse_export_format(std::string_view name);
 const char* default_extension(ExportFormat f);
 
 struct ExportOptions {
-  std::string image_filename = "feather.exr";  // pbrt: the Film's output file
+  std::string image_filename = "feather.exr";   // pbrt: the Film's output file
   int image_width = 1024, image_height = 1024;  // pbrt: film resolution
 };
 

@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include "plumage/renderer/fibre_frame.h"
 #include "plumage/renderer/fibre_material.h"
 #include "plumage/renderer/light_set.h"
 #include "plumage/renderer/sampler.h"
@@ -34,6 +35,8 @@ class PathIntegrator {
   glm::vec3 Li(Ray ray, PixelSampler& sampler, PathCounters& counters) const;
 
  private:
+  FibreFrame fibre_frame_at(const SurfaceHit& hit, const glm::vec3& wo) const;
+
   const Scene& scene_;
   const LightSet& lights_;
   const FibreMaterial& material_;

@@ -1,10 +1,12 @@
 #pragma once
 // The Embree scene of one feather (DESIGN §4): the shaft as a round B-spline
-// curve, the barbs as ray-facing flat B-spline ribbons (hair mode), and an
+// curve, the barbs as ray-facing flat B-spline ribbons (hair mode) or as
+// normal-oriented ribbons lying in the vane (substructure mode, DESIGN §5), and an
 // optional backdrop card under the feather. Keeps, per Embree primitive, the
 // feather curve and segment it came from so a hit can be shaded.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -12,6 +14,7 @@
 #include "plumage/common/feather.h"
 #include "plumage/renderer/ray.h"
 #include "plumage/renderer/shading_mode.h"
+#include "plumage/renderer/substructure.h"
 
 namespace plumage {
 
@@ -45,6 +48,14 @@ struct CurvePoint {
   float radius;
 };
 
+// Substructure mode: where a barb hit lies on its ribbon and what is there.
+struct StructureSample {
+  double s = 0, w = 0;   // arc length along the barb from its root; offset along b (mm)
+  Frame barb;            // the barb's frame (t, b = n x t, n the vane normal) at the hit
+  StructureHit hit;      // G_b (Algorithm 1)
+  Frame frame;           // the structure's shading frame (Algorithm 2)
+};
+
 struct AxisBox {
   glm::vec3 lo{0}, hi{0};
   glm::vec3 centre() const { return 0.5f * (lo + hi); }
@@ -60,8 +71,10 @@ class Scene {
   Scene(const Scene&) = delete;
   Scene& operator=(const Scene&) = delete;
 
-  // Closest hit along the ray within [tnear, tfar]; counts a ray.
-  bool intersect(const Ray& ray, SurfaceHit& hit) const;
+  // Closest hit along the ray within [tnear, tfar]; counts a ray. In substructure
+  // mode the gaps between rami and barbules are rejected inside Embree unless
+  // `keep_gaps` (for the structure AOV, which wants to see them).
+  bool intersect(const Ray& ray, SurfaceHit& hit, bool keep_gaps = false) const;
   // Anything along the ray within [tnear, tfar]; counts a shadow ray.
   bool occluded(const Ray& ray) const;
   // A secondary ray leaving `from` in direction `d`, valid up to distance `tmax`
@@ -69,6 +82,8 @@ class Scene {
   Ray spawn(const SurfaceHit& from, const glm::vec3& d, float tmax = 1e30f) const;
 
   CurvePoint curve_point(const SurfaceHit& hit) const;
+  // Substructure mode, a barb hit: its ribbon coordinates, structure and frames.
+  StructureSample structure_at(const SurfaceHit& hit) const;
   const Feather& feather() const { return feather_; }
   const SceneOptions& options() const { return options_; }
   // Bounds of the feather's curves including radii (the backdrop is left out).
@@ -93,10 +108,23 @@ class Scene {
   };
   struct Embree;
 
+  // Substructure mode, per barb primitive: the vane's substructure, where the
+  // segment's arc-length samples start in arc_s_, and the barb's length.
+  struct RibbonSegment {
+    const BarbSubstructure* vane;
+    std::uint32_t arc;
+    float length;
+  };
+  static constexpr int kArcSamples = 8;  // per segment; linear in between
+
   void add_curves(CurveGeometry& g, CurveKind kind, int rtc_type);
+  void build_substructure();
+  // s and w of a point on a barb ribbon; the barb's frame too when `full_frame`.
+  StructureSample ribbon_point(std::uint32_t prim, float u, const glm::vec3& p, bool full_frame) const;
   void add_backdrop();
   const CurveGeometry* curve_geometry(std::uint32_t geom) const;
   friend struct SceneFilter;
+  friend struct SubstructureFilter;
 
   Feather feather_;
   SceneOptions options_;
@@ -107,6 +135,10 @@ class Scene {
   float backdrop_z_ = 0;
   float max_barb_radius_ = 0;
   float max_radius_ = 0;
+  std::optional<BarbSubstructure> left_, right_;
+  std::vector<RibbonSegment> ribbon_segments_;
+  std::vector<float> arc_s_;
+  std::vector<glm::vec3> barb_normals_;
 };
 
 }  // namespace plumage

@@ -2,7 +2,7 @@
 // How barbs are turned into Embree geometry and shaded (DESIGN §4-5).
 //   Hair:         each barb is a ray-facing flat ribbon shaded as one hair fibre.
 //   Substructure: each barb is a normal-oriented ribbon in the vane whose (u, v)
-//                 locate rami and barbules (issue 5; not implemented yet).
+//                 locate rami and barbules (substructure.h; docs/substructure.md).
 #include <string>
 
 namespace plumage {

@@ -1,0 +1,137 @@
+// `plumage compare`: one feather rendered with hair shading and with the
+// substructure technique (Baron et al. 2021) under the same camera, lights,
+// samples and exposure, side by side and labelled, after the photograph when one
+// is given; or, with --light-sequence, one dome LED at a time (the paper's Fig. 5)
+// as a labelled contact sheet per shading mode (docs/substructure.md).
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "command.h"
+#include "substructure_options.h"
+#include "plumage/common/curve_format.h"
+#include "plumage/common/error.h"
+#include "plumage/common/image.h"
+#include "plumage/renderer/feather_render.h"
+#include "plumage/renderer/panel_layout.h"
+
+namespace plumage::cli {
+namespace {
+
+struct Options {
+  std::string input, output, photo;
+  int spp = 16;
+  std::string resolution = "320x480";
+  std::uint64_t seed = 0;
+  int max_depth = 16;
+  float exposure = 0;
+  std::string lights = "all";
+  std::string rig = std::string(PLUMAGE_DATA_DIR) + "/rigs/dome25.json";
+  std::string backdrop = "white";
+  int threads = 0;
+  bool light_sequence = false;
+  int columns = 5;
+  SubstructureOverrides substructure;
+};
+
+std::filesystem::path with_suffix(const std::filesystem::path& p, const std::string& suffix) {
+  return p.parent_path() / (p.stem().string() + suffix + p.extension().string());
+}
+
+int run_compare(const Options& o) {
+  ViewSpec view;
+  {
+    char x = 0;
+    std::stringstream ss(o.resolution);
+    if (!(ss >> view.width >> x >> view.height) || x != 'x' || !ss.eof())
+      throw Error("--resolution '" + o.resolution + "': give WIDTHxHEIGHT of one panel, e.g. 320x480");
+  }
+  const std::string ext = std::filesystem::path(o.output).extension().string();
+  if (ext != ".png" && ext != ".exr" && ext != ".jpg" && ext != ".tif")
+    throw Error("-o " + o.output + ": the extension picks the format; use .png (sRGB) or .exr (linear)");
+  if (o.max_depth < 0) throw Error("--max-depth must be 0 or more");
+  view.spp = o.spp;
+  view.seed = o.seed;
+  view.max_depth = o.max_depth;
+  view.exposure = o.exposure;
+  view.lights = o.lights;
+  view.threads = o.threads;
+  view.progress = !global_options().quiet;
+  view.base_dir = std::filesystem::path(o.input).parent_path();
+
+  Feather feather = read_fcurves(o.input);
+  o.substructure.apply(feather);
+  const DomeRig rig = read_dome_rig(o.rig);
+  // Read the photo before the (long) renders so a bad path fails at once.
+  Image photo;
+  if (!o.photo.empty()) photo = read_image(o.photo);
+
+  SceneOptions so;
+  if (o.backdrop == "white") so.backdrop = {true, glm::vec3(0.8f)};
+  else if (o.backdrop == "black") so.backdrop = {true, glm::vec3(0.03f)};
+  else if (o.backdrop != "none") throw Error("--backdrop '" + o.backdrop + "': use white, black or none");
+  // Both scenes first: a bad substructure parameter fails before anything renders.
+  so.mode = ShadingMode::Hair;
+  const Scene hair(feather, so);
+  so.mode = ShadingMode::Substructure;
+  const Scene substructure(feather, so);
+  const std::pair<const Scene*, const char*> modes[] = {{&hair, "hair"}, {&substructure, "substructure"}};
+
+  if (!o.light_sequence) {
+    std::vector<Panel> panels;
+    if (!photo.empty()) panels.push_back({scale_to_height(photo, view.height), "photo"});
+    for (const auto& [scene, name] : modes) panels.push_back({render_view(*scene, rig, view), name});
+    write_image(o.output, side_by_side(panels));
+    if (!global_options().quiet) std::cerr << "wrote " << o.output << "\n";
+    return 0;
+  }
+  if (o.columns < 1) throw Error("--columns must be at least 1");
+  const std::vector<int> leds = parse_light_selection(o.lights, int(rig.leds.size()));
+  if (leds.empty()) throw Error("--light-sequence with --lights none: no LED to switch on");
+  for (const auto& [scene, name] : modes) {
+    std::vector<Panel> tiles;
+    for (int led : leds) {
+      ViewSpec one = view;
+      one.lights = std::to_string(led + 1);
+      tiles.push_back({render_view(*scene, rig, one), "LED " + std::to_string(led + 1)});
+    }
+    const std::filesystem::path out = with_suffix(o.output, std::string("_") + name);
+    write_image(out, contact_sheet(tiles, o.columns, std::string(name) + ": one LED at a time"));
+    if (!global_options().quiet) std::cerr << "wrote " << out.string() << "\n";
+  }
+  return 0;
+}
+
+const Registration kCompare{
+    "compare", "Render a feather with hair and substructure shading side by side (and beside a photo)",
+    [](CLI::App& sub) {
+      auto o = std::make_shared<Options>();
+      sub.footer(
+          "Both panels share the camera (auto-framed top view), lights, samples, seed and exposure.\n"
+          "Example: plumage compare feather.fcurves --photo feather.jpg -o side_by_side.png --spp 64\n"
+          "         plumage compare feather.fcurves --light-sequence --resolution 160x240 -o seq.png\n"
+          "See docs/substructure.md.");
+      sub.add_option("input", o->input, "Feather curve file (.fcurves)")->required();
+      sub.add_option("-o,--output", o->output, "Output image (.png sRGB or .exr linear); with --light-sequence, "
+                                               "NAME_hair.png and NAME_substructure.png")->required();
+      sub.add_option("--photo", o->photo, "Photograph of the feather, shown first (scaled to the panel height)");
+      sub.add_option("--spp", o->spp, "Samples per pixel")->capture_default_str();
+      sub.add_option("--resolution", o->resolution, "Size of one panel WIDTHxHEIGHT")->capture_default_str();
+      sub.add_option("--seed", o->seed, "Random seed")->capture_default_str();
+      sub.add_option("--max-depth", o->max_depth, "Maximum scattering events per path")->capture_default_str();
+      sub.add_option("--exposure", o->exposure, "Exposure in stops, the same for every panel")->capture_default_str();
+      sub.add_option("--lights", o->lights, "Dome LEDs that are on (with --light-sequence: the LEDs to step through)")->capture_default_str();
+      sub.add_option("--rig", o->rig, "Light rig JSON file")->capture_default_str();
+      sub.add_option("--backdrop", o->backdrop, "Card under the feather: white, black or none")->capture_default_str();
+      sub.add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
+      sub.add_flag("--light-sequence", o->light_sequence, "One LED at a time: a labelled contact sheet per shading mode");
+      sub.add_option("--columns", o->columns, "Contact sheet tiles per row")->capture_default_str();
+      o->substructure.add_to(sub);
+      return [o] { return run_compare(*o); };
+    }};
+
+}  // namespace
+}  // namespace plumage::cli

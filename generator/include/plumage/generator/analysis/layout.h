@@ -1,0 +1,87 @@
+#pragma once
+// FeatherLayout: what photo analysis found about each feather, in the units the
+// generator builds from (DESIGN §3, §8). Stored as layout.json; the format is
+// documented in docs/layout-format.md. This header has no OpenCV in it.
+#include <array>
+#include <filesystem>
+#include <glm/glm.hpp>
+#include <string>
+#include <vector>
+
+#include "plumage/common/bspline.h"
+
+namespace plumage {
+
+// Where the millimetres-per-pixel figure came from.
+enum class ScaleSource { Given, Grid, Default };
+const char* to_string(ScaleSource s);
+
+struct LayoutScale {
+  double mm_per_px = 0.1;  // in the photo's own (full-resolution) pixels
+  ScaleSource source = ScaleSource::Default;
+  double confidence = 0.0;    // 0..1
+  double grid_period_px = 0;  // detected grid line period, 0 when none
+  double grid_mm = 0;         // the physical grid spacing assumed for it
+};
+
+// A profile sampled at stations along the shaft: t is the fraction of shaft arc
+// length from the calamus (0) to the tip (1).
+struct VaneProfile {
+  std::vector<double> width_mm, width_confidence;
+  // Angle between the barb (pointing away from the shaft) and the shaft tangent
+  // toward the tip, in degrees (0..180; typical feathers 20..70).
+  std::vector<double> barb_angle_deg, barb_angle_confidence;
+  // Distance between neighbouring barb roots measured along the shaft.
+  std::vector<double> barb_spacing_mm, barb_spacing_confidence;
+};
+
+struct AlbedoTexture {
+  std::string file;  // PNG next to layout.json (relative name)
+  int width_px = 0, height_px = 0;
+  glm::dvec2 origin_mm{0.0};  // feather coordinates of the texture's top-left corner
+  double mm_per_texel = 0.0;  // texel (i,j) centre: origin + ((i+.5)s, -(j+.5)s)
+};
+
+struct FeatherLayout {
+  int id = 1;                          // 1-based, as labelled on the overlay
+  std::array<int, 4> bbox_px{};        // mask bounding box x, y, w, h (photo pixels)
+  std::vector<glm::dvec2> outline_px;  // closed polygon, photo pixels
+  // Feather coordinates (mm, DESIGN §3: calamus at the origin, tip along +Y,
+  // dorsal side toward the viewer) from photo pixels: f = A * (u, v, 1).
+  glm::dmat3x2 feather_from_image{1.0};  // glm: 3 columns of 2 rows
+  glm::dmat3x2 image_from_feather{1.0};
+  BSpline2 shaft_mm;            // calamus (t=0) to tip (t=1), feather coords
+  double length_mm = 0.0;       // shaft arc length
+  double shaft_width_mm = 0.0;  // at the calamus
+  double shaft_confidence = 0.0;
+  std::vector<double> stations_t;  // shared by both sides
+  VaneProfile left, right;         // seen from the dorsal side, tip up
+  AlbedoTexture albedo;
+  bool touches_border = false;
+  std::vector<std::string> warnings;
+};
+
+struct Layout {
+  std::string source_image;               // the photo's path as given
+  int image_width = 0, image_height = 0;  // full resolution
+  double analysis_downscale = 1.0;        // working pixels per photo pixel (<= 1)
+  std::string background;                 // "light" or "dark"
+  LayoutScale scale;
+  std::vector<FeatherLayout> feathers;
+};
+
+// Maps a point with a 2x3 affine matrix.
+inline glm::dvec2 apply(const glm::dmat3x2& A, const glm::dvec2& p) {
+  return A * glm::dvec3(p, 1.0);
+}
+
+// JSON text of a layout (pretty-printed), and back. `parse_layout` validates
+// strictly and throws plumage::Error naming `source` and, for syntax errors,
+// line:column; for content errors the JSON path (e.g. /feathers/0/shaft).
+std::string layout_to_json(const Layout& layout);
+Layout parse_layout(const std::string& text, const std::string& source);
+Layout read_layout(const std::filesystem::path& path);
+// Writes atomically (plumage::write_file_atomic).
+void write_layout(const std::filesystem::path& path, const Layout& layout);
+
+}  // namespace plumage

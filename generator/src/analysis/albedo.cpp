@@ -1,0 +1,102 @@
+// Albedo texture in feather coordinates: the photo resampled on a grid of
+// feather millimetres (tip up), the shaft painted out from the vane around it,
+// and on a light backdrop divided by the backdrop colour (white paper = 1).
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "plumage/common/image.h"
+#include "steps.h"
+
+namespace plumage::analysis {
+
+AlbedoResult extract_albedo(const cv::Mat& bgr, const Component& f, const glm::dmat3x2& img_from_f,
+                            const BSpline2& shaft_mm, double shaft_width_mm, double mm_per_px,
+                            bool light_background, const cv::Vec3d& bg) {
+  const glm::dmat3x2 f_from_img = [&] {
+    const glm::dmat2 L(img_from_f[0], img_from_f[1]);
+    const glm::dmat2 Li = glm::inverse(L);
+    return glm::dmat3x2(Li[0], Li[1], -(Li * img_from_f[2]));
+  }();
+  glm::dvec2 lo(1e300), hi(-1e300);
+  for (const cv::Point& p : f.contour) {
+    const glm::dvec2 q = apply(f_from_img, glm::dvec2(p.x, p.y));
+    lo = glm::min(lo, q), hi = glm::max(hi, q);
+  }
+  double tau = mm_per_px;  // one texel per working pixel
+  const double span = std::max(hi.x - lo.x, hi.y - lo.y) + 4 * tau;
+  if (span / tau > 4096) tau = span / 4096;
+  AlbedoResult out;
+  out.mm_per_texel = tau;
+  out.origin_mm = {lo.x - 2 * tau, hi.y + 2 * tau};
+  const int W = int(std::ceil((hi.x - lo.x) / tau)) + 4,
+            H = int(std::ceil((hi.y - lo.y) / tau)) + 4;
+
+  // Texel (i, j) -> feather (x0 + i tau, y1 - j tau) -> image: one affine map
+  // (texel centres at +0.5 are matched by warpAffine's pixel-centre convention).
+  const glm::dvec2 ox = img_from_f[0] * tau, oy = -img_from_f[1] * tau;
+  const glm::dvec2 o0 = apply(img_from_f, out.origin_mm + glm::dvec2(0.5 * tau, -0.5 * tau));
+  const cv::Matx23d T(ox.x, oy.x, o0.x, ox.y, oy.y, o0.y);
+  const cv::Matx23d Tm(ox.x, oy.x, o0.x - f.bbox.x, ox.y, oy.y, o0.y - f.bbox.y);
+  cv::Mat tex, mask;
+  cv::warpAffine(bgr, tex, T, cv::Size(W, H), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
+                 cv::BORDER_REPLICATE);
+  cv::warpAffine(f.mask, mask, Tm, cv::Size(W, H), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP);
+
+  // The shaft is modelled as its own curve, so its colour must not stay in the vane texture.
+  cv::Mat shaft_mask = cv::Mat::zeros(H, W, CV_8U);
+  std::vector<cv::Point> pl;
+  for (int i = 0; i <= 200; ++i) {
+    const glm::dvec2 q = shaft_mm.eval(i / 200.0);
+    pl.emplace_back(int(std::lround((q.x - out.origin_mm.x) / tau - 0.5)),
+                    int(std::lround((out.origin_mm.y - q.y) / tau - 0.5)));
+  }
+  const int th = std::max(1, int(std::lround(shaft_width_mm / tau))) + 2;
+  cv::polylines(shaft_mask, pl, false, cv::Scalar(255), th);
+  shaft_mask &= mask;
+  // Fill from the vane either side (normalised convolution over valid texels).
+  const double sigma = std::max(1.0, 0.75 * th);
+  const cv::Rect strip = [&] {
+    const int m = int(std::ceil(3 * sigma)) + 1;
+    const cv::Rect r = cv::boundingRect(shaft_mask);
+    return cv::Rect(r.x - m, r.y - m, r.width + 2 * m, r.height + 2 * m) & cv::Rect(0, 0, W, H);
+  }();
+  if (strip.area() > 0) {
+    const cv::Mat sm = shaft_mask(strip);
+    cv::Mat t = tex(strip);
+    cv::Mat valid = (mask(strip) > 127) & ~sm, vf, tf, num, den;
+    valid.convertTo(vf, CV_32F, 1.0 / 255.0);
+    t.convertTo(tf, CV_32FC3);
+    std::vector<cv::Mat> ch;
+    cv::split(tf, ch);
+    for (auto& c : ch) c = c.mul(vf);
+    cv::merge(ch, num);
+    cv::GaussianBlur(num, num, cv::Size(), sigma);
+    cv::GaussianBlur(vf, den, cv::Size(), sigma);
+    for (int y = 0; y < t.rows; ++y)
+      for (int x = 0; x < t.cols; ++x)
+        if (sm.at<uchar>(y, x) && den.at<float>(y, x) > 1e-3f) {
+          const cv::Vec3f v = num.at<cv::Vec3f>(y, x) / den.at<float>(y, x);
+          t.at<cv::Vec3b>(y, x) =
+              cv::Vec3b(cv::saturate_cast<uchar>(v[0]), cv::saturate_cast<uchar>(v[1]),
+                        cv::saturate_cast<uchar>(v[2]));
+        }
+  }
+
+  float lut[256], inv_bg[3];
+  for (int i = 0; i < 256; ++i) lut[i] = srgb_to_linear(i / 255.0f);
+  for (int c = 0; c < 3; ++c)
+    inv_bg[c] =
+        light_background ? 1.0f / std::max(srgb_to_linear(float(bg[2 - c]) / 255.0f), 1e-3f) : 1.0f;
+  out.rgba.create(H, W, CV_32FC4);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const cv::Vec3b p = tex.at<cv::Vec3b>(y, x);
+      cv::Vec4f& q = out.rgba.at<cv::Vec4f>(y, x);
+      for (int c = 0; c < 3; ++c) q[c] = std::min(lut[p[2 - c]] * inv_bg[c], 1.0f);  // BGR -> RGB
+      q[3] = mask.at<uchar>(y, x) / 255.0f;
+    }
+  return out;
+}
+
+}  // namespace plumage::analysis

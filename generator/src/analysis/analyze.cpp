@@ -1,0 +1,288 @@
+// Photo analysis driver: load, segment, scale, then per feather shaft, vanes,
+// albedo and the overlay; and the all-or-nothing writer of its outputs.
+#include "plumage/generator/analysis/analyze.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <opencv2/imgproc.hpp>
+#include <random>
+#include <sstream>
+
+#include "plumage/common/atomic_file.h"
+#include "plumage/common/error.h"
+#include "steps.h"
+
+namespace plumage {
+namespace fs = std::filesystem;
+using namespace analysis;
+
+namespace {
+
+glm::dmat3x2 inverse_affine(const glm::dmat3x2& A) {
+  const glm::dmat2 L(A[0], A[1]);
+  const glm::dmat2 Li = glm::inverse(L);
+  return glm::dmat3x2(Li[0], Li[1], -(Li * A[2]));
+}
+
+// Feather coordinates (DESIGN §3) from photo pixels: the photo seen as the
+// dorsal side (its y axis flipped up), rotated so the calamus->tip chord is +Y,
+// scaled to mm and moved so the calamus is the origin.
+glm::dmat3x2 feather_from_photo(const glm::dvec2& calamus, const glm::dvec2& tip,
+                                double mm_per_px) {
+  const glm::dvec2 qc(calamus.x, -calamus.y), qt(tip.x, -tip.y);
+  const glm::dvec2 d = glm::normalize(qt - qc), X(d.y, -d.x);
+  const double s = mm_per_px;
+  return glm::dmat3x2(glm::dvec2(s * X.x, s * d.x), glm::dvec2(-s * X.y, -s * d.y),
+                      glm::dvec2(-s * glm::dot(X, qc), -s * glm::dot(d, qc)));
+}
+
+std::vector<double> scaled(const std::vector<double>& v, double k) {
+  std::vector<double> out(v);
+  for (double& x : out) x *= k;
+  return out;
+}
+std::vector<double> clamped01(const std::vector<double>& v) {
+  std::vector<double> out(v);
+  for (double& x : out) x = std::clamp(std::isfinite(x) ? x : 0.0, 0.0, 1.0);
+  return out;
+}
+
+VaneProfile to_profile(const SideMeasure& s, double mm_per_px) {
+  VaneProfile p;
+  p.width_mm = scaled(s.width_px, mm_per_px);
+  p.width_confidence = clamped01(s.width_conf);
+  p.barb_angle_deg = s.angle_deg;
+  p.barb_angle_confidence = clamped01(s.angle_conf);
+  p.barb_spacing_mm = scaled(s.spacing_px, mm_per_px);
+  p.barb_spacing_confidence = clamped01(s.spacing_conf);
+  return p;
+}
+
+Image to_image_linear(const cv::Mat& bgr) {
+  float lut[256];
+  for (int i = 0; i < 256; ++i) lut[i] = srgb_to_linear(i / 255.0f);
+  Image img(bgr.cols, bgr.rows, 3);
+  for (int y = 0; y < bgr.rows; ++y)
+    for (int x = 0; x < bgr.cols; ++x) {
+      const cv::Vec3b p = bgr.at<cv::Vec3b>(y, x);
+      img.set_rgb(x, y, {lut[p[2]], lut[p[1]], lut[p[0]]});
+    }
+  return img;
+}
+
+}  // namespace
+
+namespace {
+// Accumulates wall time per named stage.
+class StageClock {
+ public:
+  explicit StageClock(std::vector<std::pair<std::string, double>>& out) : out_(out) {}
+  void lap(const std::string& stage) {
+    const auto now = std::chrono::steady_clock::now();
+    const double s = std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+    for (auto& [name, t] : out_)
+      if (name == stage) return void(t += s);
+    out_.emplace_back(stage, s);
+  }
+
+ private:
+  std::vector<std::pair<std::string, double>>& out_;
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+}  // namespace
+
+namespace {
+// Shaft, vanes and albedo of one feather, appended to the layout and the overlay list.
+void analyze_feather(const Photo& photo, const Segmentation& seg, const Component& comp, int k,
+                     const AnalyzeOptions& opt, Layout& L, PhotoAnalysis& out,
+                     std::vector<OverlayFeather>& drawn, StageClock& clock);
+}  // namespace
+
+PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& opt) {
+  const Location where{photo_path.string()};
+  PhotoAnalysis out;
+  StageClock clock(out.stage_seconds);
+  if (opt.mm_per_px && !(*opt.mm_per_px > 0 && std::isfinite(*opt.mm_per_px)))
+    throw Error("--mm-per-px must be a positive number of millimetres per pixel");
+  if (!(opt.grid_mm > 0)) throw Error("--grid-mm must be positive");
+  if (opt.stations < 2 || opt.stations > 1000) throw Error("stations must be in 2..1000");
+  Photo photo = load_photo(photo_path, opt.max_megapixels, opt.refuse_megapixels);
+  const double ds = photo.downscale;
+  clock.lap("load");
+
+  const Segmentation seg = segment_feathers(photo.bgr);
+  clock.lap("segment");
+  if (seg.feathers.empty()) {
+    std::ostringstream m;
+    m << "no feather found (background " << (seg.dark_background ? "dark" : "light")
+      << ", nothing stands out from it by more than " << std::lround(seg.threshold)
+      << "/255 over a feather-sized area); photograph the feather on plain, contrasting paper";
+    throw Error(where, m.str());
+  }
+  const int count = int(seg.feathers.size());
+  if (opt.feather && (*opt.feather < 1 || *opt.feather > count))
+    throw Error(where, "--feather " + std::to_string(*opt.feather) + ": the photo has " +
+                           std::to_string(count) + " feather(s); pick 1.." + std::to_string(count));
+
+  Layout& L = out.layout;
+  L.source_image = photo_path.string();
+  L.image_width = photo.full_width;
+  L.image_height = photo.full_height;
+  L.analysis_downscale = ds;
+  L.background = seg.dark_background ? "dark" : "light";
+  for (const auto& n : photo.notes) out.warnings.push_back(n);
+
+  // Scale: given, else a grid in the photo, else the default.
+  cv::Mat all = cv::Mat::zeros(photo.bgr.size(), CV_8U);
+  for (const Component& c : seg.feathers) all(c.bbox).setTo(255, c.mask);
+  GridScale grid;
+  if (opt.mm_per_px) {
+    L.scale = {*opt.mm_per_px, ScaleSource::Given, 1.0, 0.0, 0.0};
+  } else {
+    grid = detect_grid(photo.bgr, all | seg.foreground);
+    if (grid.found) {
+      L.scale = {opt.grid_mm / (grid.period_px / ds), ScaleSource::Grid, grid.confidence,
+                 grid.period_px / ds, opt.grid_mm};
+    } else {
+      L.scale = {opt.default_mm_per_px, ScaleSource::Default, 0.1, 0.0, 0.0};
+      out.warnings.push_back("no grid or ruler found and no --mm-per-px given: assuming " +
+                             std::to_string(opt.default_mm_per_px) + " mm per pixel");
+    }
+  }
+  const double mm_per_work_px = L.scale.mm_per_px / ds;
+  clock.lap("scale");
+
+  std::vector<OverlayFeather> drawn;
+  for (int k = 1; k <= count; ++k) {
+    if (opt.feather && *opt.feather != k) continue;
+    const Component& comp = seg.feathers[k - 1];
+    if (comp.touches_border && !opt.allow_border) {
+      std::ostringstream m;
+      m << "feather " << k << " touches the image border (box " << comp.bbox.x / ds << ","
+        << comp.bbox.y / ds << " " << comp.bbox.width / ds << "x" << comp.bbox.height / ds
+        << " px), so it may be cut off; photograph it with a margin, pick another with --feather, "
+           "or pass --allow-border to analyse it anyway";
+      throw Error(where, m.str());
+    }
+    try {
+      analyze_feather(photo, seg, comp, k, opt, L, out, drawn, clock);
+    } catch (const Error& e) {
+      // Errors from inside a stage do not know the file; name it and the feather.
+      if (!e.where().file.empty()) throw;
+      throw Error(where, "feather " + std::to_string(k) + ": " + e.message());
+    }
+  }
+  out.overlay = to_image_linear(
+      draw_overlay(photo.bgr, drawn, mm_per_work_px, L.scale, grid, seg.foreground));
+  clock.lap("overlay");
+  return out;
+}
+
+namespace {
+
+void analyze_feather(const Photo& photo, const Segmentation& seg, const Component& comp, int k,
+                     const AnalyzeOptions& opt, Layout& L, PhotoAnalysis& out,
+                     std::vector<OverlayFeather>& drawn, StageClock& clock) {
+  const double ds = photo.downscale;
+  const double mm_per_work_px = L.scale.mm_per_px / ds;
+  const Shaft shaft = trace_shaft(photo.bgr, comp);
+  std::vector<glm::dvec2> pts;
+  for (const auto& p : shaft.path) pts.push_back({p.x, p.y});
+  const BSpline2 shaft_px = fit_spline(pts, 8);
+  clock.lap("shaft");
+  const glm::dvec2 cal = shaft_px.eval(0.0) / ds, tip = shaft_px.eval(1.0) / ds;
+
+  FeatherLayout f;
+  f.id = k;
+  f.bbox_px = {int(std::floor(comp.bbox.x / ds)), int(std::floor(comp.bbox.y / ds)),
+               int(std::ceil(comp.bbox.width / ds)), int(std::ceil(comp.bbox.height / ds))};
+  std::vector<cv::Point> poly;
+  cv::approxPolyDP(comp.contour, poly, 0.75, true);
+  for (const auto& p : poly) f.outline_px.push_back(glm::dvec2(p.x, p.y) / ds);
+  f.feather_from_image = feather_from_photo(cal, tip, L.scale.mm_per_px);
+  f.image_from_feather = inverse_affine(f.feather_from_image);
+  const glm::dmat3x2 f_from_work(f.feather_from_image[0] / ds, f.feather_from_image[1] / ds,
+                                 f.feather_from_image[2]);
+  std::vector<glm::dvec2> cps;
+  for (const auto& c : shaft_px.control_points()) cps.push_back(apply(f_from_work, c));
+  f.shaft_mm = BSpline2(cps);
+  f.length_mm = spline_length(f.shaft_mm);
+  f.shaft_width_mm = shaft.width_px * mm_per_work_px;
+  f.shaft_confidence = shaft.confidence;
+
+  const VaneMeasure vm = measure_vanes(photo.bgr, comp, shaft_px, shaft.width_px, opt.stations);
+  f.stations_t = vm.t;
+  f.left = to_profile(vm.left, mm_per_work_px);
+  f.right = to_profile(vm.right, mm_per_work_px);
+  clock.lap("vanes");
+  f.touches_border = comp.touches_border;
+  if (comp.touches_border)
+    f.warnings.push_back("touches the image border; the vane may be cut off");
+  if (L.scale.source == ScaleSource::Default) f.warnings.push_back("scale unknown (default used)");
+
+  const AlbedoResult al =
+      extract_albedo(photo.bgr, comp, inverse_affine(f_from_work), f.shaft_mm, f.shaft_width_mm,
+                     mm_per_work_px, !seg.dark_background, seg.background_bgr);
+  f.albedo.file = "feather" + std::to_string(k) + ".albedo.png";  // write_analysis prefixes the stem
+  f.albedo.width_px = al.rgba.cols;
+  f.albedo.height_px = al.rgba.rows;
+  f.albedo.origin_mm = al.origin_mm;
+  f.albedo.mm_per_texel = al.mm_per_texel;
+  Image tex(al.rgba.cols, al.rgba.rows, 4);
+  std::memcpy(tex.pixels.data(), al.rgba.ptr<float>(0), tex.pixels.size() * sizeof(float));
+  out.albedo.push_back(std::move(tex));
+  clock.lap("albedo");
+  Image mask(comp.mask.cols, comp.mask.rows, 1);
+  for (int y = 0; y < comp.mask.rows; ++y)
+    for (int x = 0; x < comp.mask.cols; ++x) mask.at(x, y)[0] = comp.mask.at<uchar>(y, x) / 255.0f;
+  out.masks.push_back(std::move(mask));
+  for (const auto& w : f.warnings)
+    out.warnings.push_back("feather " + std::to_string(k) + ": " + w);
+
+  drawn.push_back({k, comp.contour, shaft_px, vm, f.length_mm, comp.touches_border});
+  L.feathers.push_back(std::move(f));
+}
+
+}  // namespace
+
+void write_analysis(PhotoAnalysis& a, const fs::path& layout_path, const fs::path& overlay_path) {
+  const fs::path dir = layout_path.parent_path();
+  const std::string stem = layout_path.stem().string();
+  for (std::size_t i = 0; i < a.layout.feathers.size(); ++i)
+    a.layout.feathers[i].albedo.file =
+        stem + ".feather" + std::to_string(a.layout.feathers[i].id) + ".albedo.png";
+
+  // Everything goes to temporary names first and is renamed only when all of
+  // it was written, so a failure leaves no partial set of outputs behind.
+  std::mt19937_64 rng(std::random_device{}());
+  const std::string tag = ".tmp-" + std::to_string(rng() % 1000000000ull);
+  std::vector<std::pair<fs::path, fs::path>> staged;  // temp, final
+  auto stage = [&](const fs::path& final_path) {
+    const fs::path tmp = final_path.parent_path() /
+                         (final_path.stem().string() + tag + final_path.extension().string());
+    staged.emplace_back(tmp, final_path);
+    return tmp;
+  };
+  try {
+    for (std::size_t i = 0; i < a.layout.feathers.size(); ++i)
+      write_image(stage(dir / a.layout.feathers[i].albedo.file), a.albedo[i]);
+    if (!overlay_path.empty()) write_image(stage(overlay_path), a.overlay);
+    write_layout(stage(layout_path), a.layout);
+    for (const auto& [tmp, final_path] : staged) {
+      std::error_code ec;
+      fs::rename(tmp, final_path, ec);
+      if (ec) throw Error(Location{final_path.string()}, "cannot write: " + ec.message());
+    }
+  } catch (...) {
+    for (const auto& [tmp, final_path] : staged) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+    }
+    throw;
+  }
+}
+
+}  // namespace plumage

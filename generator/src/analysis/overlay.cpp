@@ -1,0 +1,116 @@
+// The overlay a person checks the analysis with: outline, shaft (calamus dot,
+// tip arrow), barb directions per side, labels with lengths, and a scale bar.
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "steps.h"
+
+namespace plumage::analysis {
+namespace {
+
+void label(cv::Mat& img, const std::string& text, cv::Point at, double scale,
+           const cv::Scalar& colour) {
+  const int th = std::max(1, int(std::lround(scale * 1.5)));
+  cv::putText(img, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, cv::Scalar(0, 0, 0), th + 2,
+              cv::LINE_AA);
+  cv::putText(img, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, th, cv::LINE_AA);
+}
+
+// The overlay is at most this many pixels wide or tall: enough to check by eye.
+constexpr int kMaxSide = 2048;
+
+}  // namespace
+
+cv::Mat draw_overlay(const cv::Mat& bgr, const std::vector<OverlayFeather>& feathers,
+                     double mm_per_px, const LayoutScale& scale, const GridScale& grid,
+                     const cv::Mat& busy) {
+  cv::Mat img;
+  const double g_k = std::min(1.0, double(kMaxSide) / std::max(bgr.cols, bgr.rows));
+  const auto px = [g_k](const glm::dvec2& p) {  // working pixels to overlay pixels
+    return cv::Point(int(std::lround(g_k * p.x)), int(std::lround(g_k * p.y)));
+  };
+  if (g_k < 1.0)
+    cv::resize(bgr, img, cv::Size(), g_k, g_k, cv::INTER_AREA);
+  else
+    img = bgr.clone();
+  mm_per_px /= g_k;
+  const double dim = std::max(img.cols, img.rows);
+  const int th = std::max(1, int(std::lround(dim / 900)));
+  const double font = std::max(0.4, dim / 2000);
+  const cv::Scalar green(60, 220, 60), red(40, 40, 255), yellow(0, 230, 255), cyan(255, 230, 0),
+      blue(255, 120, 0), white(255, 255, 255);
+  for (const OverlayFeather& f : feathers) {
+    std::vector<cv::Point> outline;
+    for (const cv::Point& p : f.contour) outline.push_back(px(glm::dvec2(p.x, p.y)));
+    cv::polylines(img, outline, true, f.touches_border ? red : green, th, cv::LINE_AA);
+    std::vector<cv::Point> sh;
+    for (int i = 0; i <= 100; ++i) sh.push_back(px(f.shaft_px.eval(i / 100.0)));
+    cv::polylines(img, sh, false, red, th + 1, cv::LINE_AA);
+    cv::circle(img, sh.front(), 3 * th + 2, blue, cv::FILLED, cv::LINE_AA);
+    const glm::dvec2 tip = f.shaft_px.eval(1.0), dir = glm::normalize(f.shaft_px.deriv(1.0));
+    cv::arrowedLine(img, px(tip - dir * (12.0 * th / g_k)), px(tip + dir * (4.0 * th / g_k)), red,
+                    th + 1, cv::LINE_AA, 0, 0.5);
+    // Barb directions at the middle of each side's vane.
+    for (std::size_t k = 0; k < f.vanes.t.size(); ++k) {
+      const double t = f.vanes.t[k];
+      const glm::dvec2 C = f.shaft_px.eval(t), T = glm::normalize(f.shaft_px.deriv(t));
+      const glm::dvec2 N(-T.y, T.x);
+      for (int side : {-1, +1}) {
+        const SideMeasure& S = side < 0 ? f.vanes.left : f.vanes.right;
+        const double w = S.width_px[k];
+        if (w < 4) continue;
+        const double a = S.angle_deg[k] * 3.14159265358979 / 180.0;
+        const glm::dvec2 b = T * std::cos(a) + N * (side * std::sin(a));
+        const glm::dvec2 m = C + N * (side * 0.5 * w);
+        const double len = 0.4 * w;
+        cv::line(img, px(m - b * (0.5 * len)), px(m + b * (0.5 * len)), side < 0 ? yellow : cyan,
+                 th, cv::LINE_AA);
+      }
+    }
+    std::ostringstream s;
+    s << "F" << f.id << " " << std::lround(f.length_mm) << "mm";
+    cv::Point at = px(tip + dir * (10.0 * th / g_k)) + cv::Point(-20 * th, -4 * th);
+    int base = 0;
+    const cv::Size ts = cv::getTextSize(s.str(), cv::FONT_HERSHEY_SIMPLEX, font, th, &base);
+    at.x = std::clamp(at.x, 2, std::max(2, img.cols - ts.width - 2));
+    at.y = std::clamp(at.y, ts.height + 2, img.rows - 2);
+    label(img, s.str(), at, font, white);
+  }
+  // Scale bar: a round number of millimetres near a tenth of the width.
+  const double target_mm = 0.12 * img.cols * mm_per_px;
+  double bar_mm = 1;
+  for (double c : {1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0, 500.0, 1000.0})
+    if (c <= target_mm) bar_mm = c;
+  const int bar_px = int(std::lround(bar_mm / mm_per_px));
+  // Put the bar in the emptiest corner.
+  const cv::Size box(std::min(img.cols, std::max(bar_px, 30 * th) + 20 * th),
+                     std::min(img.rows, 24 * th + 20));
+  cv::Point p0;
+  double least = 1e300;
+  for (int cy : {0, 1})
+    for (int cx : {0, 1}) {
+      const cv::Rect r(cx ? img.cols - box.width : 0, cy ? img.rows - box.height : 0, box.width,
+                       box.height);
+      const cv::Rect rb(int(r.x / g_k), int(r.y / g_k), int(r.width / g_k), int(r.height / g_k));
+      const double m =
+          busy.empty() ? 0.0 : cv::mean(busy(rb & cv::Rect(0, 0, busy.cols, busy.rows)))[0];
+      if (m < least - 1e-9) least = m, p0 = cv::Point(r.x + 10 * th, r.y + r.height - 6 * th);
+    }
+  cv::rectangle(img, p0 + cv::Point(-4, -4 * th - 4), p0 + cv::Point(bar_px + 4, 4),
+                cv::Scalar(0, 0, 0), cv::FILLED);
+  cv::rectangle(img, p0 + cv::Point(0, -4 * th), p0 + cv::Point(bar_px, 0), white, cv::FILLED);
+  std::ostringstream s;
+  s << bar_mm << " mm (" << to_string(scale.source);
+  if (grid.found)
+    s << ", " << std::fixed << std::setprecision(1) << grid.period_px << " px = " << scale.grid_mm
+      << " mm";
+  if (scale.source == ScaleSource::Default) s << ", unknown scale";
+  s << ")";
+  label(img, s.str(), p0 + cv::Point(0, -6 * th - 6), font, white);
+  return img;
+}
+
+}  // namespace plumage::analysis

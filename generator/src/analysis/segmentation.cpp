@@ -1,0 +1,127 @@
+// Feather masks: background colour from the border, colour distance to it,
+// Otsu threshold, an opening that removes grid lines, and connected components
+// filtered by size and thickness so text, labels and rulings are dropped.
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "steps.h"
+
+namespace plumage::analysis {
+namespace {
+
+// Median colour and luminance spread of a frame of pixels along the border.
+void border_statistics(const cv::Mat& bgr, cv::Vec3d& median, double& sigma) {
+  const int b = std::max(2, std::min(bgr.cols, bgr.rows) / 100);
+  std::vector<uchar> ch[3];
+  std::vector<double> luma;
+  auto take = [&](int x, int y) {
+    const cv::Vec3b p = bgr.at<cv::Vec3b>(y, x);
+    for (int c = 0; c < 3; ++c) ch[c].push_back(p[c]);
+    luma.push_back(0.114 * p[0] + 0.587 * p[1] + 0.299 * p[2]);
+  };
+  for (int y = 0; y < bgr.rows; ++y)
+    for (int x = 0; x < bgr.cols; ++x)
+      if (y < b || y >= bgr.rows - b || x < b || x >= bgr.cols - b)
+        take(x, y);
+      else
+        x = bgr.cols - b - 1;
+  for (int c = 0; c < 3; ++c) {
+    auto mid = ch[c].begin() + ch[c].size() / 2;
+    std::nth_element(ch[c].begin(), mid, ch[c].end());
+    median[c] = *mid;
+  }
+  auto mid = luma.begin() + luma.size() / 2;
+  std::nth_element(luma.begin(), mid, luma.end());
+  const double m = *mid;
+  for (double& v : luma) v = std::fabs(v - m);
+  std::nth_element(luma.begin(), mid, luma.end());
+  sigma = 1.4826 * *mid;  // MAD to a Gaussian sigma
+}
+
+}  // namespace
+
+Segmentation segment_feathers(const cv::Mat& bgr) {
+  Segmentation seg;
+  double sigma = 0;
+  border_statistics(bgr, seg.background_bgr, sigma);
+  const cv::Vec3d& bg = seg.background_bgr;
+  seg.dark_background = 0.114 * bg[0] + 0.587 * bg[1] + 0.299 * bg[2] < 128;
+
+  // Distance to the background colour: the largest channel difference, so a
+  // pale pink on white and a grey on black both stand out.
+  cv::Mat diff;
+  cv::absdiff(bgr, cv::Scalar(bg[0], bg[1], bg[2]), diff);
+  std::vector<cv::Mat> ch;
+  cv::split(diff, ch);
+  cv::Mat dist = cv::max(cv::max(ch[0], ch[1]), ch[2]);
+  cv::GaussianBlur(dist, dist, cv::Size(5, 5), 1.0);
+
+  cv::Mat bin;
+  const double otsu = cv::threshold(dist, bin, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
+  seg.threshold = std::max({otsu, 12.0, 4.0 * sigma});
+  cv::threshold(dist, bin, seg.threshold, 255, cv::THRESH_BINARY);
+  seg.foreground = bin.clone();
+
+  // Grid lines and hairline text are at most a couple of pixels wide: an
+  // opening a little wider than that removes them and cuts feathers free.
+  const int k = 3 + 2 * (std::min(bgr.cols, bgr.rows) / 1500);
+  const cv::Mat open_k = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(k, k));
+  cv::morphologyEx(bin, bin, cv::MORPH_OPEN, open_k);
+
+  // Hysteresis: darker quill ends and downy bases, below Otsu's threshold but
+  // joined to a feather, belong to it.
+  const double low_threshold = std::max({0.5 * seg.threshold, 12.0, 4.0 * sigma});
+  cv::Mat low;
+  cv::threshold(dist, low, low_threshold, 255, cv::THRESH_BINARY);
+  cv::morphologyEx(low, low, cv::MORPH_OPEN, open_k);
+  cv::Mat labels;
+  const int nl = cv::connectedComponents(low, labels, 8, CV_32S);
+  std::vector<uchar> seeded(nl, 0);
+  for (int y = 0; y < bin.rows; ++y) {
+    const uchar* b = bin.ptr<uchar>(y);
+    const int* l = labels.ptr<int>(y);
+    for (int x = 0; x < bin.cols; ++x)
+      if (b[x]) seeded[l[x]] = 1;
+  }
+  for (int y = 0; y < bin.rows; ++y) {
+    uchar* b = bin.ptr<uchar>(y);
+    const int* l = labels.ptr<int>(y);
+    for (int x = 0; x < bin.cols; ++x) b[x] = (l[x] > 0 && seeded[l[x]]) ? 255 : 0;
+  }
+
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(bin, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+  const double image_area = double(bgr.total());
+  std::vector<Component> kept;
+  double largest = 0;
+  for (auto& c : contours) {
+    const double area = cv::contourArea(c);
+    if (area < std::max(150.0, 3e-4 * image_area)) continue;
+    const cv::RotatedRect rr = cv::minAreaRect(c);
+    const double len = std::max(rr.size.width, rr.size.height);
+    if (area / std::max(len, 1.0) < 3.0) continue;  // a line, not a vane
+    Component comp;
+    comp.bbox = cv::boundingRect(c);
+    comp.area = area;
+    comp.contour = std::move(c);
+    largest = std::max(largest, area);
+    kept.push_back(std::move(comp));
+  }
+  // Letters and labels are far smaller than the feathers on the same sheet.
+  for (auto& comp : kept) {
+    if (comp.area < 0.12 * largest) continue;
+    comp.mask = cv::Mat::zeros(comp.bbox.size(), CV_8U);
+    cv::drawContours(comp.mask, std::vector<std::vector<cv::Point>>{comp.contour}, 0,
+                     cv::Scalar(255), cv::FILLED, cv::LINE_8, cv::noArray(), 0, -comp.bbox.tl());
+    comp.touches_border = comp.bbox.x <= 1 || comp.bbox.y <= 1 ||
+                          comp.bbox.br().x >= bgr.cols - 1 || comp.bbox.br().y >= bgr.rows - 1;
+    seg.feathers.push_back(std::move(comp));
+  }
+  std::sort(seg.feathers.begin(), seg.feathers.end(), [](const Component& a, const Component& b) {
+    return a.bbox.x + a.bbox.width / 2 < b.bbox.x + b.bbox.width / 2;
+  });
+  return seg;
+}
+
+}  // namespace plumage::analysis

@@ -1,0 +1,177 @@
+// The shaft: the feather is straightened along its principal axis, the rachis
+// is the colour ridge that runs the length of the mask (found by dynamic
+// programming over rows), and the calamus is the end where the vane is absent.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+
+#include "plumage/common/error.h"
+#include "steps.h"
+
+namespace plumage::analysis {
+namespace {
+
+// Principal axis of the mask (second moments): centre, unit axis e, normal n.
+void principal_axis(const Component& f, cv::Point2d& c, cv::Point2d& e) {
+  const cv::Moments m = cv::moments(f.mask, true);
+  c = {f.bbox.x + m.m10 / m.m00, f.bbox.y + m.m01 / m.m00};
+  const double a = 0.5 * std::atan2(2 * m.mu11, m.mu20 - m.mu02);
+  e = {std::cos(a), std::sin(a)};
+}
+
+}  // namespace
+
+Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
+  cv::Point2d c, e;
+  principal_axis(f, c, e);
+  const cv::Point2d n(-e.y, e.x);
+  double smin = 1e300, smax = -1e300, tmin = 1e300, tmax = -1e300;
+  for (const cv::Point& p : f.contour) {
+    const cv::Point2d d = cv::Point2d(p) - c;
+    smin = std::min(smin, d.dot(e)), smax = std::max(smax, d.dot(e));
+    tmin = std::min(tmin, d.dot(n)), tmax = std::max(tmax, d.dot(n));
+  }
+  const int m = 4;
+  const int W = int(std::ceil(tmax - tmin)) + 2 * m, H = int(std::ceil(smax - smin)) + 2 * m;
+  // Straightened frame S: column along n, row along e (S -> image).
+  const cv::Point2d o = c + (tmin - m) * n + (smin - m) * e;
+  const cv::Matx23d S_to_img(n.x, e.x, o.x, n.y, e.y, o.y);
+  cv::Mat S, M;
+  cv::warpAffine(bgr, S, S_to_img, cv::Size(W, H), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
+                 cv::BORDER_REPLICATE);
+  const cv::Matx23d S_to_mask(n.x, e.x, o.x - f.bbox.x, n.y, e.y, o.y - f.bbox.y);
+  cv::warpAffine(f.mask, M, S_to_mask, cv::Size(W, H), cv::INTER_NEAREST | cv::WARP_INVERSE_MAP);
+
+  // Ridge strength: how much a pixel differs, in the same direction, from the
+  // vane on both sides of it (a line detector, so vane edges and splits, which
+  // differ on one side only, score nothing), taken over a few widths and after
+  // smoothing along the axis so the slanted barbs blur away while the rachis stays.
+  cv::Mat Sf;
+  S.convertTo(Sf, CV_32FC3);
+  const double sy = std::max(2.0, 0.01 * H);
+  cv::GaussianBlur(Sf, Sf, cv::Size(1, 2 * int(3 * sy) + 1), 0, sy);
+  cv::Mat ridge(H, W, CV_32F, cv::Scalar(0));
+  const int dmax = std::max(3, int(0.02 * H));
+  for (int d = 2; d <= dmax; d = d < 4 ? d + 1 : int(d * 1.5))
+    for (int y = 0; y < H; ++y) {
+      const uchar* m = M.ptr<uchar>(y);
+      const cv::Vec3f* s = Sf.ptr<cv::Vec3f>(y);
+      float* r = ridge.ptr<float>(y);
+      for (int x = d; x < W - d; ++x) {
+        if (!m[x] || !m[x - d] || !m[x + d]) continue;
+        float v = 0;
+        for (int c = 0; c < 3; ++c) {
+          const float a = s[x][c] - s[x - d][c], b = s[x][c] - s[x + d][c];
+          if (a * b > 0) v += std::min(std::fabs(a), std::fabs(b));
+        }
+        r[x] = std::max(r[x], v);
+      }
+    }
+
+  // Rows the feather spans, and its width in each.
+  std::vector<int> width(H, 0);
+  int r0 = H, r1 = -1;
+  for (int y = 0; y < H; ++y) {
+    width[y] = cv::countNonZero(M.row(y));
+    if (width[y] > 0) r0 = std::min(r0, y), r1 = std::max(r1, y);
+  }
+  if (r1 - r0 < 8) throw Error("feather too short to trace a shaft");
+
+  // Dynamic programming: the path maximising ridge strength, moving at most
+  // two columns per row, with a small price per column moved.
+  const double lambda = 0.5 * cv::mean(ridge, M)[0];
+  const float NEG = -std::numeric_limits<float>::infinity();
+  std::vector<float> prev(W, 0.f), cur(W);
+  std::vector<signed char> back(std::size_t(H) * W, 0);
+  for (int x = 0; x < W; ++x) prev[x] = M.at<uchar>(r0, x) ? ridge.at<float>(r0, x) : NEG;
+  for (int y = r0 + 1; y <= r1; ++y) {
+    const bool any = width[y] > 0;
+    for (int x = 0; x < W; ++x) {
+      float best = NEG;
+      signed char arg = 0;
+      for (int dx = -2; dx <= 2; ++dx) {
+        const int xp = x + dx;
+        if (xp < 0 || xp >= W || prev[xp] == NEG) continue;
+        const float v = prev[xp] - float(lambda * std::abs(dx));
+        if (v > best) best = v, arg = static_cast<signed char>(dx);
+      }
+      const bool inside = !any || M.at<uchar>(y, x);
+      cur[x] = inside && best != NEG ? best + ridge.at<float>(y, x) : NEG;
+      back[std::size_t(y) * W + x] = arg;
+    }
+    std::swap(prev, cur);
+  }
+  int x = int(std::max_element(prev.begin(), prev.end()) - prev.begin());
+  std::vector<cv::Point2d> rows_path(r1 - r0 + 1);
+  double on_path = 0;
+  for (int y = r1; y >= r0; --y) {
+    rows_path[y - r0] = {double(x), double(y)};
+    on_path += ridge.at<float>(y, x);
+    x += back[std::size_t(y) * W + x];
+    x = std::clamp(x, 0, W - 1);
+  }
+
+  // The calamus end is the one with the longer run of rows where only the
+  // bare quill is left (width well under the vane's).
+  const int wmax = *std::max_element(width.begin(), width.end());
+  auto run = [&](int from, int step) {
+    int k = 0;
+    for (int y = from; y >= r0 && y <= r1 && width[y] < 0.3 * wmax; y += step) ++k;
+    return k;
+  };
+  const int run_top = run(r0, +1), run_bottom = run(r1, -1);
+  const bool calamus_at_bottom = run_bottom >= run_top;
+
+  Shaft shaft;
+  const int step = std::max(1, (r1 - r0) / 200);
+  std::vector<cv::Point2d> sampled;
+  for (int i = 0; i < int(rows_path.size()); i += step) sampled.push_back(rows_path[i]);
+  if (sampled.back() != rows_path.back()) sampled.push_back(rows_path.back());
+  if (calamus_at_bottom) std::reverse(sampled.begin(), sampled.end());
+  for (const auto& p : sampled)
+    shaft.path.push_back({S_to_img(0, 0) * p.x + S_to_img(0, 1) * p.y + S_to_img(0, 2),
+                          S_to_img(1, 0) * p.x + S_to_img(1, 1) * p.y + S_to_img(1, 2)});
+
+  // Shaft width: the bare quill's width where there is one, else a typical
+  // rachis proportion of the length.
+  std::vector<int> quill;
+  const int run_len = calamus_at_bottom ? run_bottom : run_top;
+  for (int k = 0; k < run_len; ++k) quill.push_back(width[calamus_at_bottom ? r1 - k : r0 + k]);
+  if (quill.size() >= 3) {
+    std::nth_element(quill.begin(), quill.begin() + quill.size() / 2, quill.end());
+    shaft.width_px = quill[quill.size() / 2];
+  } else {
+    shaft.width_px = std::max(2.0, 0.008 * (r1 - r0));
+  }
+  const double mean_ridge = cv::mean(ridge, M)[0];
+  const double contrast = on_path / rows_path.size() / std::max(mean_ridge, 1e-6);
+  shaft.confidence = std::clamp((contrast - 1.0) / 3.0, 0.0, 1.0);
+  return shaft;
+}
+
+BSpline2 fit_spline(const std::vector<glm::dvec2>& pts, int ncp) {
+  // plumage::fit_bspline (chord-length parameters, ends held) on the plane z = 0.
+  ncp = std::max(4, std::min(ncp, int(pts.size())));
+  if (int(pts.size()) < ncp) throw Error("too few shaft points to fit a curve");
+  std::vector<glm::dvec3> p3;
+  for (const auto& p : pts) p3.emplace_back(p, 0.0);
+  const BSpline3 c = fit_bspline(p3, ncp);
+  std::vector<glm::dvec2> cp;
+  for (const auto& q : c.control_points()) cp.emplace_back(q.x, q.y);
+  return BSpline2(cp);
+}
+
+double spline_length(const BSpline2& c) {
+  double L = 0;
+  glm::dvec2 prev = c.eval(0.0);
+  const int n = 512;
+  for (int i = 1; i <= n; ++i) {
+    const glm::dvec2 p = c.eval(double(i) / n);
+    L += glm::length(p - prev);
+    prev = p;
+  }
+  return L;
+}
+
+}  // namespace plumage::analysis

@@ -1,0 +1,102 @@
+#pragma once
+// The stages of photo analysis, private to generator/src/analysis (OpenCV types).
+// All pixel figures here are in working pixels (the photo after any downscale).
+#include <filesystem>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "plumage/common/bspline.h"
+#include "plumage/generator/analysis/layout.h"
+
+namespace plumage::analysis {
+
+// photo.cpp -------------------------------------------------------------------
+struct Photo {
+  cv::Mat bgr;  // 8-bit BGR, working resolution
+  int full_width = 0, full_height = 0;
+  double downscale = 1.0;  // working pixels per photo pixel
+  std::vector<std::string> notes;
+};
+// Reads PNG/JPEG/TIFF/PNM..., 8 or 16 bit, grey, grey+alpha, RGB, RGBA.
+Photo load_photo(const std::filesystem::path& path, double max_megapixels,
+                 double refuse_megapixels);
+// Width and height from a PNG or JPEG header without decoding; {0,0} if unknown.
+cv::Size peek_image_size(const std::filesystem::path& path);
+
+// segmentation.cpp ------------------------------------------------------------
+struct Component {
+  cv::Rect bbox;                   // in the working image
+  cv::Mat mask;                    // CV_8U 0/255, bbox-sized
+  std::vector<cv::Point> contour;  // working image coordinates
+  double area = 0;
+  bool touches_border = false;
+};
+struct Segmentation {
+  bool dark_background = false;
+  cv::Vec3d background_bgr;         // median border colour
+  double threshold = 0;             // on the colour distance to the background
+  cv::Mat foreground;               // CV_8U, everything above threshold (before filtering)
+  std::vector<Component> feathers;  // sorted left to right
+};
+Segmentation segment_feathers(const cv::Mat& bgr);
+
+// grid_scale.cpp --------------------------------------------------------------
+struct GridScale {
+  bool found = false;
+  double period_px = 0;  // working pixels between grid lines
+  double confidence = 0;
+};
+GridScale detect_grid(const cv::Mat& bgr, const cv::Mat& feather_mask);
+
+// shaft.cpp -------------------------------------------------------------------
+struct Shaft {
+  std::vector<cv::Point2d> path;  // calamus to tip, working pixels
+  double width_px = 0;            // at the calamus
+  double confidence = 0;
+};
+Shaft trace_shaft(const cv::Mat& bgr, const Component& feather);
+// Least-squares uniform cubic B-spline through ordered points, ends clamped.
+BSpline2 fit_spline(const std::vector<glm::dvec2>& points, int num_control_points);
+double spline_length(const BSpline2& c);
+
+// vane.cpp --------------------------------------------------------------------
+struct SideMeasure {
+  std::vector<double> width_px, width_conf;
+  std::vector<double> angle_deg, angle_conf;
+  std::vector<double> spacing_px, spacing_conf;
+};
+struct VaneMeasure {
+  std::vector<double> t;
+  SideMeasure left, right;  // left: the -X side in feather coordinates
+};
+// `shaft_px` runs calamus to tip in working pixels.
+VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& feather, const BSpline2& shaft_px,
+                          double shaft_width_px, int stations);
+
+// albedo.cpp ------------------------------------------------------------------
+// Texture in feather coordinates, shaft painted out; linear RGBA.
+struct AlbedoResult {
+  cv::Mat rgba;  // CV_32FC4 linear, alpha = mask
+  glm::dvec2 origin_mm{0.0};
+  double mm_per_texel = 0;
+};
+AlbedoResult extract_albedo(const cv::Mat& bgr, const Component& feather,
+                            const glm::dmat3x2& image_from_feather_work, const BSpline2& shaft_mm,
+                            double shaft_width_mm, double mm_per_work_px, bool light_background,
+                            const cv::Vec3d& background_bgr);
+
+// overlay.cpp -----------------------------------------------------------------
+struct OverlayFeather {
+  int id = 1;
+  std::vector<cv::Point> contour;
+  BSpline2 shaft_px;  // working pixels
+  VaneMeasure vanes;
+  double length_mm = 0;
+  bool touches_border = false;
+};
+cv::Mat draw_overlay(const cv::Mat& bgr, const std::vector<OverlayFeather>& feathers,
+                     double mm_per_work_px, const LayoutScale& scale, const GridScale& grid,
+                     const cv::Mat& busy);
+
+}  // namespace plumage::analysis

@@ -1,0 +1,244 @@
+// Per-side vane measurements in the shaft's own frame: the photo is unrolled
+// along the shaft (rows: arc length from the calamus, columns: signed distance
+// to the right), then width, barb angle (structure tensor) and barb spacing
+// (spectral) are read per station.
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "steps.h"
+
+namespace plumage::analysis {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Unrolled {
+  cv::Mat gray;  // CV_32F
+  cv::Mat mask;  // CV_8U
+  int R = 0;     // column of the shaft
+};
+
+// Resamples the photo on the shaft's normals: pixel (i, j) is the photo at
+// C(s=j) + (i - R) N(s), with N the normal toward the feather's +X side.
+Unrolled unroll(const cv::Mat& bgr, const Component& f, const BSpline2& shaft, int R) {
+  const int n = 2048;
+  std::vector<double> ts(n + 1), ss(n + 1, 0.0);
+  glm::dvec2 prev = shaft.eval(0);
+  for (int i = 0; i <= n; ++i) {
+    ts[i] = double(i) / n;
+    const glm::dvec2 p = shaft.eval(ts[i]);
+    if (i) ss[i] = ss[i - 1] + glm::length(p - prev);
+    prev = p;
+  }
+  const int L = std::max(1, int(ss.back()));
+  cv::Mat mx(L + 1, 2 * R + 1, CV_32F), my(L + 1, 2 * R + 1, CV_32F);
+  std::size_t k = 0;
+  for (int j = 0; j <= L; ++j) {
+    while (k + 1 < ss.size() && ss[k + 1] < j) ++k;
+    const double a = k + 1 < ss.size() ? (j - ss[k]) / std::max(ss[k + 1] - ss[k], 1e-9) : 0.0;
+    const double t = ts[k] + a * (k + 1 < ts.size() ? ts[k + 1] - ts[k] : 0.0);
+    const glm::dvec2 C = shaft.eval(t);
+    const glm::dvec2 T = glm::normalize(shaft.deriv(t));
+    // In the image (y down) the feather's +X side, tip up, is (-T.y, T.x).
+    const glm::dvec2 N(-T.y, T.x);
+    for (int i = 0; i <= 2 * R; ++i) {
+      mx.at<float>(j, i) = float(C.x + (i - R) * N.x);
+      my.at<float>(j, i) = float(C.y + (i - R) * N.y);
+    }
+  }
+  Unrolled u;
+  u.R = R;
+  cv::Mat gray;
+  cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
+  cv::remap(gray, u.gray, mx, my, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  u.gray.convertTo(u.gray, CV_32F);
+  cv::Mat mxo = mx - float(f.bbox.x), myo = my - float(f.bbox.y);
+  cv::remap(f.mask, u.mask, mxo, myo, cv::INTER_NEAREST, cv::BORDER_CONSTANT, cv::Scalar(0));
+  return u;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+// Barb spacing along the shaft: the dominant period of brightness along lines
+// parallel to the shaft inside the vane, from the averaged periodogram.
+void spacing(const Unrolled& U, int j0, int j1, int side, double w, double shaft_w, double& period,
+             double& conf) {
+  period = 0, conf = 0;
+  const int len = j1 - j0;
+  if (len < 24) return;
+  const double pmin = 2.5, pmax = std::max(pmin * 2, len / 4.0);
+  const int nf = 240;
+  std::vector<double> power(nf, 0.0);
+  const int hp = std::max(3, int(pmax / 2));
+  int used = 0;
+  const int inner = int(std::max(shaft_w, 0.2 * w)), outer = int(0.8 * w);
+  const int step = std::max(1, (outer - inner) / 12);
+  for (int o = inner; o <= outer; o += step) {
+    const int col = U.R + side * o;
+    if (col < 0 || col >= U.gray.cols) continue;
+    std::vector<double> x(len);
+    int in = 0;
+    for (int j = 0; j < len; ++j) {
+      x[j] = U.gray.at<float>(j0 + j, col);
+      in += U.mask.at<uchar>(j0 + j, col) != 0;
+    }
+    if (in < 0.9 * len) continue;
+    // High-pass (remove the slow shading) and taper the ends.
+    std::vector<double> y(len);
+    for (int j = 0; j < len; ++j) {
+      double s = 0;
+      int c = 0;
+      for (int q = std::max(0, j - hp); q <= std::min(len - 1, j + hp); ++q) s += x[q], ++c;
+      y[j] = (x[j] - s / c) * (0.5 - 0.5 * std::cos(2 * kPi * (j + 0.5) / len));
+    }
+    for (int k = 0; k < nf; ++k) {
+      const double fr = 1.0 / pmax + (1.0 / pmin - 1.0 / pmax) * k / (nf - 1);
+      // The DFT phasor advanced by one rotation per sample (no trig per sample).
+      const double cr = std::cos(2 * kPi * fr), ci = std::sin(2 * kPi * fr);
+      double re = 0, im = 0, pr = 1, pi = 0;
+      for (int j = 0; j < len; ++j) {
+        re += y[j] * pr, im += y[j] * pi;
+        const double nr = pr * cr - pi * ci;
+        pi = pr * ci + pi * cr, pr = nr;
+      }
+      power[k] += re * re + im * im;
+    }
+    ++used;
+  }
+  if (!used) return;
+  const int k = int(std::max_element(power.begin(), power.end()) - power.begin());
+  double kk = k;
+  if (k > 0 && k + 1 < nf) {
+    const double den = power[k - 1] - 2 * power[k] + power[k + 1];
+    if (den < 0) kk = k + 0.5 * (power[k - 1] - power[k + 1]) / den;
+  }
+  const double fr = 1.0 / pmax + (1.0 / pmin - 1.0 / pmax) * kk / (nf - 1);
+  period = 1.0 / fr;
+  double mean = 0;
+  for (double p : power) mean += p;
+  mean /= nf;
+  // A single clean period stands out far above the mean of the band; noise
+  // peaks reach a few times it.
+  conf = std::clamp((power[k] / std::max(mean, 1e-12) - 5.0) / 15.0, 0.0, 1.0);
+}
+
+}  // namespace
+
+VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2& shaft,
+                          double shaft_width_px, int stations) {
+  // Unroll only as far out as the outline reaches from the shaft.
+  std::vector<glm::dvec2> axis;
+  for (int i = 0; i <= 128; ++i) axis.push_back(shaft.eval(i / 128.0));
+  double reach = 0;
+  for (std::size_t k = 0; k < f.contour.size(); k += 2) {
+    const glm::dvec2 p(f.contour[k].x, f.contour[k].y);
+    double best = 1e300;
+    for (std::size_t i = 0; i + 1 < axis.size(); ++i) {
+      const glm::dvec2 ab = axis[i + 1] - axis[i];
+      const double t =
+          std::clamp(glm::dot(p - axis[i], ab) / std::max(glm::dot(ab, ab), 1e-12), 0.0, 1.0);
+      best = std::min(best, glm::length(p - (axis[i] + t * ab)));
+    }
+    reach = std::max(reach, best);
+  }
+  const int R = int(std::ceil(reach)) + 4;
+  const Unrolled U = unroll(bgr, f, shaft, std::min(R, 4096));
+  const int L = U.gray.rows;
+
+  // Structure tensor (gradient outer products, lightly integrated).
+  cv::Mat gx, gy;
+  cv::Scharr(U.gray, gx, CV_32F, 1, 0);
+  cv::Scharr(U.gray, gy, CV_32F, 0, 1);
+  cv::Mat Jxx = gx.mul(gx), Jxy = gx.mul(gy), Jyy = gy.mul(gy);
+
+  // Width per row and side: the outermost mask pixel.
+  std::vector<int> wl(L, 0), wr(L, 0);
+  for (int j = 0; j < L; ++j) {
+    const uchar* m = U.mask.ptr<uchar>(j);
+    for (int i = U.gray.cols - 1; i > U.R; --i)
+      if (m[i]) {
+        wr[j] = i - U.R;
+        break;
+      }
+    for (int i = 0; i < U.R; ++i)
+      if (m[i]) {
+        wl[j] = U.R - i;
+        break;
+      }
+  }
+
+  VaneMeasure out;
+  const double half_shaft = 0.5 * shaft_width_px;
+  for (int k = 0; k < stations; ++k) {
+    const double t = (k + 0.5) / stations;
+    out.t.push_back(t);
+    const int c = int(t * (L - 1));
+    const int h = std::max(2, L / (2 * stations));
+    const int j0 = std::max(0, c - h), j1 = std::min(L, c + h + 1);
+    for (int side : {-1, +1}) {
+      SideMeasure& S = side < 0 ? out.left : out.right;
+      const std::vector<int>& wv = side < 0 ? wl : wr;
+      std::vector<double> ws;
+      int present = 0;
+      for (int j = j0; j < j1; ++j) {
+        ws.push_back(wv[j]);
+        present += wv[j] > half_shaft + 1;
+      }
+      const double w = median(ws);
+      S.width_px.push_back(w);
+      S.width_conf.push_back(double(present) / (j1 - j0));
+
+      // Barb angle: mean tensor over the middle of the vane on this side.
+      double a = 0, b = 0, d = 0;
+      const int inner = int(std::max(shaft_width_px, 0.15 * w)), outer = int(0.85 * w);
+      for (int j = j0; j < j1; ++j)
+        for (int o = inner; o <= outer; ++o) {
+          const int i = U.R + side * o;
+          if (i < 0 || i >= U.gray.cols || !U.mask.at<uchar>(j, i)) continue;
+          a += Jxx.at<float>(j, i), b += Jxy.at<float>(j, i), d += Jyy.at<float>(j, i);
+        }
+      if (a + d > 0 && outer > inner) {
+        // Dominant gradient direction; barbs run across it.
+        const double phi = 0.5 * std::atan2(2 * b, a - d);
+        double bo = -std::sin(phi), bs = std::cos(phi);  // (offset, arc length)
+        if (bo * side < 0) bo = -bo, bs = -bs;           // point away from the shaft
+        S.angle_deg.push_back(std::acos(std::clamp(bs, -1.0, 1.0)) * 180.0 / kPi);
+        S.angle_conf.push_back(std::sqrt((a - d) * (a - d) + 4 * b * b) / (a + d));
+      } else {
+        S.angle_deg.push_back(NAN);
+        S.angle_conf.push_back(0.0);
+      }
+
+      // Barb spacing over a window long enough for several periods.
+      const int hw = std::max(h, 48);
+      double p, pc;
+      spacing(U, std::max(0, c - hw), std::min(L, c + hw + 1), side, w, shaft_width_px, p, pc);
+      S.spacing_px.push_back(p > 0 ? p : NAN);
+      S.spacing_conf.push_back(pc);
+    }
+  }
+  // Stations with nothing measurable take their nearest neighbour's value at
+  // zero confidence, so every profile is complete.
+  for (SideMeasure* S : {&out.left, &out.right})
+    for (auto* v : {&S->angle_deg, &S->spacing_px}) {
+      for (int k = 0; k < stations; ++k) {
+        if (!std::isnan((*v)[k])) continue;
+        double fill = NAN;
+        for (int dk = 1; dk < stations && std::isnan(fill); ++dk) {
+          if (k - dk >= 0 && !std::isnan((*v)[k - dk]))
+            fill = (*v)[k - dk];
+          else if (k + dk < stations && !std::isnan((*v)[k + dk]))
+            fill = (*v)[k + dk];
+        }
+        (*v)[k] = std::isnan(fill) ? (v == &S->angle_deg ? 45.0 : 0.0) : fill;
+      }
+    }
+  return out;
+}
+
+}  // namespace plumage::analysis

@@ -1,0 +1,549 @@
+// Photo analysis: synthetic feathers with known geometry (drawn here), the two
+// real photos in ../shared/photos, bad input through the CLI, and layout.json.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "plumage/common/atomic_file.h"
+#include "plumage/common/error.h"
+#include "plumage/common/image.h"
+#include "plumage/generator/analysis/analyze.h"
+#include "plumage/generator/analysis/layout.h"
+#include "synthetic_feather.h"
+
+using namespace plumage;
+using plumage::synthetic::SyntheticFeather;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("plumage_analysis_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+// Values of a profile at stations whose confidence passes `min_conf`.
+std::vector<double> confident(const std::vector<double>& v, const std::vector<double>& c,
+                              double min_conf) {
+  std::vector<double> out;
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (c[i] >= min_conf) out.push_back(v[i]);
+  return out;
+}
+
+double distance_to_segment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
+  const glm::dvec2 ab = b - a;
+  const double t = std::clamp(glm::dot(p - a, ab) / glm::dot(ab, ab), 0.0, 1.0);
+  return glm::length(p - (a + t * ab));
+}
+
+std::string shared_photo(const char* name) {
+  return std::string(PLUMAGE_SHARED_DIR) + "/photos/" + name;
+}
+
+}  // namespace
+
+// --- synthetic feathers with known answers -----------------------------------
+
+struct SyntheticCase {
+  bool dark;
+  double theta, spacing, dir_deg;
+};
+
+class AnalysisSynthetic : public ::testing::TestWithParam<SyntheticCase> {};
+
+TEST_P(AnalysisSynthetic, RecoversShaftAnglesSpacingAndOutline) {
+  const SyntheticCase c = GetParam();
+  SyntheticFeather F;
+  F.dark_background = c.dark;
+  F.theta_deg = c.theta;
+  F.spacing = c.spacing;
+  F.dir_deg = c.dir_deg;
+  F.seed = unsigned(c.theta * 10 + c.dark);
+  const fs::path dir = temp_dir("synthetic");
+  const fs::path photo = dir / "feather.png";
+  write_image(photo, F.draw());
+
+  AnalyzeOptions opt;
+  opt.mm_per_px = 0.1;
+  const PhotoAnalysis A = analyze_photo(photo, opt);
+  ASSERT_EQ(A.layout.feathers.size(), 1u);
+  const FeatherLayout& f = A.layout.feathers[0];
+  EXPECT_EQ(A.layout.background, c.dark ? "dark" : "light");
+  EXPECT_EQ(A.layout.scale.source, ScaleSource::Given);
+
+  // Shaft within 1% of the length everywhere, calamus and tip at the right ends.
+  const double tol = 0.01 * F.length;
+  for (int i = 0; i <= 100; ++i) {
+    const glm::dvec2 p = apply(f.image_from_feather, f.shaft_mm.eval(i / 100.0));
+    EXPECT_LT(distance_to_segment(p, F.calamus, F.tip()), tol) << "t=" << i / 100.0;
+  }
+  EXPECT_LT(glm::length(apply(f.image_from_feather, f.shaft_mm.eval(0.0)) - F.calamus), tol);
+  EXPECT_LT(glm::length(apply(f.image_from_feather, f.shaft_mm.eval(1.0)) - F.tip()), tol);
+  EXPECT_NEAR(f.length_mm, 0.1 * F.length, 0.1 * tol);
+  // Feather frame: calamus at the origin, tip on +Y.
+  const glm::dvec2 tip_f = apply(f.feather_from_image, F.tip());
+  EXPECT_NEAR(tip_f.x, 0.0, 0.1 * tol);
+  EXPECT_NEAR(tip_f.y, 0.1 * F.length, 0.1 * tol);
+
+  // Barb angle within 3 degrees, spacing within 5%, on both sides.
+  for (const VaneProfile* v : {&f.left, &f.right}) {
+    const auto ang = confident(v->barb_angle_deg, v->barb_angle_confidence, 0.5);
+    ASSERT_GE(ang.size(), 6u);
+    EXPECT_NEAR(median(ang), c.theta, 3.0);
+    std::printf("  angle %.2f (true %.1f)", median(ang), c.theta);
+    const auto sp = confident(v->barb_spacing_mm, v->barb_spacing_confidence, 0.3);
+    ASSERT_GE(sp.size(), 4u);
+    EXPECT_NEAR(median(sp), 0.1 * c.spacing, 0.05 * 0.1 * c.spacing);
+    std::printf("  spacing %.4f mm (true %.3f)\n", median(sp), 0.1 * c.spacing);
+  }
+  // Width profile within 3% of the length where measured; the wide vane is +X.
+  for (std::size_t k = 0; k < f.stations_t.size(); ++k) {
+    const double y = f.stations_t[k] * F.length;
+    if (f.left.width_confidence[k] > 0.9 && F.half_width(y, -1) > 0) {
+      EXPECT_NEAR(f.left.width_mm[k], 0.1 * F.half_width(y, -1), 0.03 * 0.1 * F.length)
+          << "k=" << k;
+    }
+    if (f.right.width_confidence[k] > 0.9 && F.half_width(y, +1) > 0) {
+      EXPECT_NEAR(f.right.width_mm[k], 0.1 * F.half_width(y, +1), 0.03 * 0.1 * F.length)
+          << "k=" << k;
+    }
+  }
+  EXPECT_GT(median(f.right.width_mm), 1.2 * median(f.left.width_mm));
+
+  // Outline: mask IoU with the drawn shape, and the polygon encloses the same area.
+  const Image& mask = A.masks[0];
+  const int bx = f.bbox_px[0], by = f.bbox_px[1];
+  long inter = 0, uni = 0;
+  for (int y = 0; y < F.height; ++y)
+    for (int x = 0; x < F.width; ++x) {
+      const bool truth = F.inside({x + 0.5, y + 0.5});
+      const bool found = x >= bx && y >= by && x < bx + mask.width && y < by + mask.height &&
+                         mask.at(x - bx, y - by)[0] > 0.5f;
+      inter += truth && found;
+      uni += truth || found;
+    }
+  EXPECT_GE(double(inter) / uni, 0.97);
+  std::printf("  IoU %.4f, length %.2f mm (true %.2f)\n", double(inter) / uni, f.length_mm,
+              0.1 * F.length);
+  double area2 = 0;
+  for (std::size_t i = 0; i < f.outline_px.size(); ++i) {
+    const auto& a = f.outline_px[i];
+    const auto& b = f.outline_px[(i + 1) % f.outline_px.size()];
+    area2 += a.x * b.y - b.x * a.y;
+  }
+  EXPECT_NEAR(0.5 * std::fabs(area2), double(inter), 0.03 * inter);
+}
+
+INSTANTIATE_TEST_SUITE_P(WhiteAndBlack, AnalysisSynthetic,
+                         ::testing::Values(SyntheticCase{false, 38, 9, -62},
+                                           SyntheticCase{true, 38, 9, -62},
+                                           SyntheticCase{false, 55, 7, -100},
+                                           SyntheticCase{true, 28, 11, -30}));
+
+TEST(AnalysisSynthetic, WritesAlbedoLayoutAndOverlayTogether) {
+  SyntheticFeather F;
+  const fs::path dir = temp_dir("outputs");
+  write_image(dir / "feather.png", F.draw());
+  AnalyzeOptions opt;
+  opt.mm_per_px = 0.2;
+  PhotoAnalysis A = analyze_photo(dir / "feather.png", opt);
+  write_analysis(A, dir / "out.json", dir / "overlay.png");
+  const Layout L = read_layout(dir / "out.json");
+  ASSERT_EQ(L.feathers.size(), 1u);
+  const AlbedoTexture& al = L.feathers[0].albedo;
+  EXPECT_EQ(al.file, "out.feather1.albedo.png");
+  const Image tex = read_image(dir / al.file, false);
+  EXPECT_EQ(tex.width, al.width_px);
+  EXPECT_EQ(tex.channels, 4);
+  // Tip up: the texel over the shaft's middle is opaque, the texture is taller than wide,
+  // and the shaft is painted out (no rachis red left where the shaft ran).
+  EXPECT_GT(tex.height, tex.width);
+  const glm::dvec2 mid = L.feathers[0].shaft_mm.eval(0.6);
+  const int i = int((mid.x - al.origin_mm.x) / al.mm_per_texel);
+  const int j = int((al.origin_mm.y - mid.y) / al.mm_per_texel);
+  ASSERT_TRUE(i >= 0 && j >= 0 && i < tex.width && j < tex.height);
+  EXPECT_GT(tex.at(i, j)[3], 0.9f);
+  const float* p = tex.at(i, j);
+  EXPECT_GT(p[1], 0.5f * p[0]) << "shaft colour left in the albedo";
+  EXPECT_TRUE(fs::exists(dir / "overlay.png"));
+  std::size_t files = 0;
+  for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
+  EXPECT_EQ(files, 4u);  // photo, layout, albedo, overlay: no temporaries
+}
+
+// --- extreme inputs: a clean error naming the file, or a layout that passes the
+// strict reader (finite, in range) — never a crash or another exception. -------
+
+TEST(AnalysisStress, ExtremePhotosGiveAnErrorOrAValidLayout) {
+  const fs::path dir = temp_dir("stress");
+  std::vector<std::pair<std::string, Image>> cases;
+  cases.emplace_back("tiny_uniform.png", Image(16, 16, 3, 0.5f));
+  {
+    Image strip(4000, 17, 3, 0.95f);  // a one-pixel ruled line on a long strip
+    for (int x = 0; x < strip.width; ++x) strip.set_rgb(x, 8, glm::vec3(0.1f));
+    cases.emplace_back("strip.png", strip);
+  }
+  {
+    Image noise(300, 300, 3);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    for (float& v : noise.pixels) v = u(rng);
+    cases.emplace_back("noise.png", noise);
+  }
+  {
+    SyntheticFeather F;  // a feather of 40 pixels
+    F.width = 120, F.height = 100, F.calamus = {60, 80}, F.length = 40, F.dir_deg = -90;
+    F.w_left = 6, F.w_right = 8, F.shaft_width = 1.5, F.spacing = 3;
+    cases.emplace_back("tiny_feather.png", F.draw());
+  }
+  {
+    SyntheticFeather F;  // barbs almost across the shaft, at the resolution limit
+    F.theta_deg = 88, F.spacing = 2.5;
+    cases.emplace_back("fine_barbs.png", F.draw());
+  }
+  {
+    SyntheticFeather F;  // barbs almost along the shaft, a hair-thin vane
+    F.theta_deg = 3, F.w_left = 3, F.w_right = 3;
+    cases.emplace_back("thin_vane.png", F.draw());
+  }
+  {
+    SyntheticFeather F;  // barely visible: 3% contrast under noise
+    Image img = F.draw();
+    for (float& v : img.pixels) v = 0.85f + 0.03f * v;
+    cases.emplace_back("faint.png", img);
+  }
+  for (const auto& [name, img] : cases) {
+    const fs::path photo = dir / name;
+    write_image(photo, img);
+    try {
+      const PhotoAnalysis A = analyze_photo(photo, AnalyzeOptions{});
+      const Layout back = parse_layout(layout_to_json(A.layout), name);
+      ASSERT_FALSE(back.feathers.empty()) << name;
+      for (const auto& f : back.feathers) EXPECT_GT(f.length_mm, 0.0) << name;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(photo.string()), std::string::npos)
+          << name << ": " << e.what();
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << name << ": not a plumage::Error: " << e.what();
+    }
+  }
+}
+
+// --- layout.json -----------------------------------------------------------------
+
+TEST(Layout, RoundTripsAndRejectsBadContentWithItsPath) {
+  SyntheticFeather F;
+  F.width = 500, F.height = 420, F.calamus = {200, 400}, F.length = 330, F.dir_deg = -80;
+  F.w_left = 40, F.w_right = 50;
+  const fs::path dir = temp_dir("layout");
+  write_image(dir / "f.png", F.draw());
+  AnalyzeOptions opt;
+  opt.mm_per_px = 0.1;
+  PhotoAnalysis A = analyze_photo(dir / "f.png", opt);
+  write_analysis(A, dir / "f.json");
+  const std::string text = read_file(dir / "f.json");
+  const Layout L = parse_layout(text, "f.json");
+  EXPECT_EQ(layout_to_json(L), text);
+
+  auto fails_with = [&](std::string t, const std::string& needle) {
+    try {
+      parse_layout(t, "bad.json");
+      ADD_FAILURE() << "accepted: " << needle;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+      EXPECT_EQ(e.where().file, "bad.json");
+    }
+  };
+  auto replaced = [&](const std::string& from, const std::string& to) {
+    std::string t = text;
+    const auto k = t.find(from);
+    EXPECT_NE(k, std::string::npos) << from;
+    return t.replace(k, from.size(), to);
+  };
+  fails_with("{\n \"format\": \"plumage-layout\",\n  oops }", "bad.json:3:");
+  fails_with("", "bad.json:1:");
+  fails_with(replaced("\"plumage-layout\"", "\"other\""), "/format");
+  fails_with(replaced("\"version\": 1", "\"version\": 2"), "/version");
+  fails_with(replaced("\"mm_per_px\": 0.1", "\"mm_per_px\": -1"), "/scale/mm_per_px");
+  fails_with(replaced("\"source\": \"given\"", "\"source\": \"guessed\""), "/scale/source");
+  fails_with(replaced("\"touches_border\": false", "\"touches_border\": 0"),
+             "/feathers/0/touches_border");
+  fails_with(replaced("\"stations_t\": [", "\"stations_t\": [0.0001,"),
+             "/feathers/0/vanes/left/width_mm");
+  fails_with(replaced("\"barb_angle_deg\": [", "\"barb_angle_deg\": [\"x\","),
+             "/feathers/0/vanes/left/barb_angle_deg");
+  fails_with(replaced("\"file\": \"f.feather1.albedo.png\"", "\"file\": \"../x.png\""),
+             "/feathers/0/albedo/file");
+  fails_with(replaced("\"feathers\": [", "\"feathers\": [] , \"x\": ["), "/feathers");
+}
+
+// --- the real photos ------------------------------------------------------------
+
+TEST(AnalysisRealPhotos, SpoonbillSheetTwelveFeathersOnTheGrid) {
+  const fs::path photo = shared_photo("spoonbill-wing-sheet.png");
+  if (!fs::exists(photo)) GTEST_SKIP() << "no " << photo << " (shared photos absent)";
+  AnalyzeOptions opt;
+  opt.grid_mm = 20;  // the Feather Atlas grid: lines every 2 cm (axis labelled every 4)
+  const PhotoAnalysis A = analyze_photo(photo, opt);
+  const Layout& L = A.layout;
+  ASSERT_EQ(L.feathers.size(), 12u);
+  EXPECT_EQ(L.background, "dark");
+  ASSERT_EQ(L.scale.source, ScaleSource::Grid);
+  // By hand: the axis runs 0 cm at y=379 to 28 cm at y=54, i.e. 11.61 px/cm.
+  EXPECT_NEAR(L.scale.mm_per_px, 280.0 / 325.0, 0.01 * 280.0 / 325.0);
+  for (const FeatherLayout& f : L.feathers) {
+    // Upright feathers: calamus at the bottom of the mask, tip at its top.
+    const glm::dvec2 cal = apply(f.image_from_feather, f.shaft_mm.eval(0.0));
+    const glm::dvec2 tip = apply(f.image_from_feather, f.shaft_mm.eval(1.0));
+    const double top = f.bbox_px[1], bottom = f.bbox_px[1] + f.bbox_px[3];
+    EXPECT_NEAR(cal.y, bottom, 6.0) << "feather " << f.id;
+    EXPECT_NEAR(tip.y, top, 6.0) << "feather " << f.id;
+    EXPECT_GT(f.length_mm, 150.0);
+  }
+  // Lengths read by hand off the printed axis (tip and calamus rows in the photo).
+  EXPECT_NEAR(L.feathers[0].length_mm, 255.0, 0.03 * 255.0);  // tip y=83
+  EXPECT_NEAR(L.feathers[1].length_mm, 264.0, 0.03 * 264.0);  // tip y=71, bottom y=378
+  EXPECT_NEAR(L.feathers[3].length_mm, 281.0, 0.03 * 281.0);  // tip y=53: the 28 cm line
+  // Feathers come out left to right.
+  for (std::size_t i = 1; i < L.feathers.size(); ++i)
+    EXPECT_GT(L.feathers[i].bbox_px[0], L.feathers[i - 1].bbox_px[0]);
+}
+
+TEST(AnalysisRealPhotos, SpoonbillSheetPicksOneFeather) {
+  const fs::path photo = shared_photo("spoonbill-wing-sheet.png");
+  if (!fs::exists(photo)) GTEST_SKIP() << "no " << photo << " (shared photos absent)";
+  AnalyzeOptions opt;
+  opt.feather = 4;
+  opt.mm_per_px = 0.8615;
+  const PhotoAnalysis A = analyze_photo(photo, opt);
+  ASSERT_EQ(A.layout.feathers.size(), 1u);
+  EXPECT_EQ(A.layout.feathers[0].id, 4);
+  EXPECT_EQ(A.layout.scale.source, ScaleSource::Given);
+  opt.feather = 13;
+  EXPECT_THROW(analyze_photo(photo, opt), Error);
+}
+
+TEST(AnalysisRealPhotos, PinkContourFeather) {
+  const fs::path photo = shared_photo("pink-contour-feather.jpg");
+  if (!fs::exists(photo)) GTEST_SKIP() << "no " << photo << " (shared photos absent)";
+  const PhotoAnalysis A = analyze_photo(photo, AnalyzeOptions{});
+  const Layout& L = A.layout;
+  ASSERT_EQ(L.feathers.size(), 1u);
+  EXPECT_EQ(L.background, "light");
+  EXPECT_EQ(L.scale.source, ScaleSource::Default);
+  const FeatherLayout& f = L.feathers[0];
+  const glm::dvec2 cal = apply(f.image_from_feather, f.shaft_mm.eval(0.0));
+  const glm::dvec2 tip = apply(f.image_from_feather, f.shaft_mm.eval(1.0));
+  EXPECT_GT(tip.x - cal.x, 0.5 * L.image_width) << "tip should be on the right";
+  EXPECT_LT(cal.x, 0.25 * L.image_width);
+  for (const VaneProfile* v : {&f.left, &f.right}) {
+    const auto ang = confident(v->barb_angle_deg, v->barb_angle_confidence, 0.7);
+    ASSERT_GE(ang.size(), 8u);
+    EXPECT_GT(median(ang), 20.0);
+    EXPECT_LT(median(ang), 70.0);
+  }
+  // Splits are a handful of gaps; barbs are hundreds. The spacing read on the
+  // split side matches the unsplit side, and means well over 60 barbs per side.
+  const auto sl = confident(f.left.barb_spacing_mm, f.left.barb_spacing_confidence, 0.3);
+  const auto sr = confident(f.right.barb_spacing_mm, f.right.barb_spacing_confidence, 0.1);
+  ASSERT_GE(sl.size(), 3u);
+  ASSERT_GE(sr.size(), 3u);
+  EXPECT_LT(f.length_mm / median(sl), 1000.0);
+  EXPECT_GT(f.length_mm / median(sl), 60.0);
+  EXPECT_GT(f.length_mm / median(sr), 60.0);
+  EXPECT_NEAR(median(sl) / median(sr), 1.0, 0.35);
+}
+
+// --- bad input through the CLI -----------------------------------------------------
+
+namespace {
+
+struct CliRun {
+  int rc;
+  std::string err;
+};
+
+CliRun cli(const fs::path& dir, const std::string& args) {
+  const fs::path err =
+      fs::temp_directory_path() / ("plumage_analysis_stderr_" + dir.filename().string());
+  const std::string cmd =
+      std::string("\"") + PLUMAGE_CLI + "\" -q " + args + " 2> \"" + err.string() + "\"";
+  const int status = std::system(cmd.c_str());
+  CliRun r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(err)};
+  fs::remove(err);
+  return r;
+}
+
+std::vector<std::string> files_in(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// Runs analyze on `photo` (inside `dir`), expecting failure with nothing written.
+void expect_rejected(const fs::path& dir, const fs::path& photo, const std::string& needle,
+                     const std::string& extra = "") {
+  const auto before = files_in(dir);
+  const CliRun r =
+      cli(dir, "analyze \"" + photo.string() + "\" -o \"" + (dir / "out.json").string() +
+                   "\" --overlay \"" + (dir / "ov.png").string() + "\" " + extra);
+  EXPECT_NE(r.rc, 0);
+  EXPECT_NE(r.err.find(photo.string()), std::string::npos)
+      << "error should name the file: " << r.err;
+  EXPECT_NE(r.err.find(needle), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one-line error: " << r.err;
+  EXPECT_EQ(files_in(dir), before) << "left files behind";
+}
+
+void write_binary(const fs::path& p, const std::string& bytes) {
+  std::ofstream(p, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+}
+
+}  // namespace
+
+// Each case runs the CLI once or twice: process start-up dominates on a busy machine.
+TEST(AnalysisBadInput, NotAnImage) {
+  const fs::path dir = temp_dir("bad_text");
+  write_binary(dir / "notes.png", "this is not a picture\n");
+  expect_rejected(dir, dir / "notes.png", "not an image");
+}
+
+TEST(AnalysisBadInput, EmptyFile) {
+  const fs::path dir = temp_dir("bad_empty");
+  write_binary(dir / "empty.jpg", "");
+  expect_rejected(dir, dir / "empty.jpg", "empty file");
+}
+
+TEST(AnalysisBadInput, UniformImageHasNoFeather) {
+  const fs::path dir = temp_dir("bad_uniform");
+  write_image(dir / "grey.png", Image(320, 240, 3, 0.4f));
+  expect_rejected(dir, dir / "grey.png", "no feather found");
+}
+
+TEST(AnalysisBadInput, MissingFile) {
+  const fs::path dir = temp_dir("bad_missing");
+  expect_rejected(dir, dir / "missing.png", "no such file");
+}
+
+TEST(AnalysisBadInput, FeatherTouchingTheBorderIsAnError) {
+  const fs::path dir = temp_dir("bad_border");
+  SyntheticFeather F;
+  F.calamus = {250, 760};  // calamus below the bottom edge
+  write_image(dir / "cut.png", F.draw());
+  expect_rejected(dir, dir / "cut.png", "touches the image border");
+}
+
+TEST(AnalysisBadInput, FeatherTouchingTheBorderIsAllowedOnRequest) {
+  const fs::path dir = temp_dir("bad_border_ok");
+  SyntheticFeather F;
+  F.calamus = {250, 760};
+  write_image(dir / "cut.png", F.draw());
+  const CliRun ok = cli(dir, "analyze \"" + (dir / "cut.png").string() + "\" -o \"" +
+                                 (dir / "out.json").string() + "\" --allow-border");
+  EXPECT_EQ(ok.rc, 0) << ok.err;
+  EXPECT_TRUE(read_layout(dir / "out.json").feathers.at(0).touches_border);
+}
+
+TEST(AnalysisBadInput, HugeImageIsRefusedBeforeDecoding) {
+  const fs::path dir = temp_dir("bad_huge");
+  // A PNG header claiming 100000 x 100000 pixels.
+  std::string png(
+      "\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR\0\x01\x86\xa0\0\x01\x86\xa0\x08\x02\0\0\0\0\0\0\0", 33);
+  write_binary(dir / "huge.png", png);
+  expect_rejected(dir, dir / "huge.png", "memory guard");
+}
+
+TEST(AnalysisBadInput, LargeImageIsAnalysedDownscaled) {
+  const fs::path dir = temp_dir("bad_large");
+  SyntheticFeather F;
+  write_image(dir / "big.png", F.draw());
+  const CliRun r =
+      cli(dir, "analyze \"" + (dir / "big.png").string() + "\" -o \"" +
+                   (dir / "out.json").string() + "\" --mm-per-px 0.1 --max-megapixels 0.2");
+  ASSERT_EQ(r.rc, 0) << r.err;
+  const Layout L = read_layout(dir / "out.json");
+  EXPECT_LT(L.analysis_downscale, 0.6);
+  EXPECT_EQ(L.image_width, F.width);  // still reported in the photo's own pixels
+  EXPECT_NEAR(L.feathers.at(0).length_mm, 0.1 * F.length, 0.03 * 0.1 * F.length);
+}
+
+class AnalysisPhotoFormats : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(AnalysisPhotoFormats, GreyAlphaAnd16BitPhotosAreRead) {
+  const std::string name = GetParam();
+  const fs::path dir = temp_dir("format_" + name.substr(0, name.find('.')));
+  SyntheticFeather F;
+  F.width = 600, F.height = 500, F.calamus = {200, 470}, F.length = 420, F.dir_deg = -75;
+  if (name == "grey.png") write_image(dir / name, F.draw(1));
+  if (name == "alpha.png") write_image(dir / name, F.draw(4));
+  if (name == "deep.ppm") {  // 16-bit binary PPM (maxval 65535, big-endian samples)
+    const Image rgb = F.draw(3);
+    std::string ppm =
+        "P6\n" + std::to_string(F.width) + " " + std::to_string(F.height) + "\n65535\n";
+    for (float v : rgb.pixels) {
+      const int s = int(std::lround(std::clamp(linear_to_srgb(v), 0.f, 1.f) * 65535));
+      ppm += char(s >> 8), ppm += char(s & 255);
+    }
+    write_binary(dir / name, ppm);
+  }
+  const fs::path out = dir / "out.json";
+  const CliRun r = cli(
+      dir, "analyze \"" + (dir / name).string() + "\" -o \"" + out.string() + "\" --mm-per-px 0.1");
+  ASSERT_EQ(r.rc, 0) << name << ": " << r.err;
+  const Layout L = read_layout(out);
+  ASSERT_EQ(L.feathers.size(), 1u) << name;
+  EXPECT_NEAR(L.feathers[0].length_mm, 0.1 * F.length, 0.02 * 0.1 * F.length) << name;
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, AnalysisPhotoFormats,
+                         ::testing::Values("grey.png", "alpha.png", "deep.ppm"));
+
+TEST(AnalysisBadInput, BadOptionsLeaveOldFilesAlone) {
+  const fs::path dir = temp_dir("bad_options");
+  SyntheticFeather F;
+  F.width = 500, F.height = 420, F.calamus = {200, 400}, F.length = 330, F.dir_deg = -80;
+  write_image(dir / "f.png", F.draw());
+  write_file_atomic(dir / "out.json", "old");
+  const auto before = files_in(dir);
+  CliRun r = cli(dir, "analyze \"" + (dir / "f.png").string() + "\" -o \"" +
+                          (dir / "out.json").string() + "\" --feather 2");
+  EXPECT_NE(r.rc, 0);
+  EXPECT_NE(r.err.find("--feather 2"), std::string::npos) << r.err;
+  r = cli(dir, "analyze \"" + (dir / "f.png").string() + "\" -o \"" + (dir / "out.json").string() +
+                   "\" --mm-per-px -3");
+  EXPECT_NE(r.rc, 0);
+  EXPECT_EQ(files_in(dir), before);
+  EXPECT_EQ(read_file(dir / "out.json"), "old");
+}
+
+TEST(AnalysisBadInput, UnwritableOutputLeavesNothingBehind) {
+  const fs::path dir = temp_dir("bad_unwritable");
+  SyntheticFeather F;
+  F.width = 500, F.height = 420, F.calamus = {200, 400}, F.length = 330, F.dir_deg = -80;
+  write_image(dir / "f.png", F.draw());
+  write_file_atomic(dir / "out.json", "old");
+  const auto before = files_in(dir);
+  // The overlay cannot be written, so neither the layout nor the albedo may appear.
+  const CliRun r =
+      cli(dir, "analyze \"" + (dir / "f.png").string() + "\" -o \"" + (dir / "out.json").string() +
+                   "\" --overlay \"" + (dir / "no-such-dir" / "ov.png").string() + "\"");
+  EXPECT_NE(r.rc, 0);
+  EXPECT_EQ(files_in(dir), before);
+  EXPECT_EQ(read_file(dir / "out.json"), "old");
+}

@@ -1,0 +1,167 @@
+// `plumage info` and `plumage export`, run as a user would: the built binary
+// (PLUMAGE_CLI), its exit status (0 ok, 1 bad file, 2 usage error), its output,
+// and the promise that a failed export leaves nothing half-written.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "feather_samples.h"
+#include "plumage/common/atomic_file.h"
+#include "plumage/common/curve_format.h"
+#include "plumage/common/exporters.h"
+
+using namespace plumage;
+namespace fs = std::filesystem;
+
+namespace {
+
+class CurvesCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("plumage_curves_cli_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    feather_ = samples::sample_feather(6, 5);
+    feather_.albedo.texture = "albedo.png";
+    feather_.albedo.rect_min = {-20, 0};
+    feather_.albedo.rect_max = {20, 70};
+    write_fcurves(dir_ / "f.fcurves", feather_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  struct Result {
+    int status;
+    std::string out, err;
+  };
+  Result run(const std::string& args) {
+    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
+    const std::string cmd =
+        std::string("'") + PLUMAGE_CLI + "' " + args + " >'" + out.string() + "' 2>'" + err.string() + "'";
+    const int raw = std::system(cmd.c_str());
+    Result r{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, read_file(out), read_file(err)};
+    fs::remove(out);
+    fs::remove(err);
+    return r;
+  }
+  std::string path(const std::string& name) const { return "'" + (dir_ / name).string() + "'"; }
+  std::size_t files_in_dir() const {
+    std::size_t n = 0;
+    for ([[maybe_unused]] auto& e : fs::directory_iterator(dir_)) ++n;
+    return n;
+  }
+
+  fs::path dir_;
+  Feather feather_;
+};
+
+// Each run of the binary costs a process start (a few hundred ms with every
+// library loaded), so these tests run it a dozen times in all; the formats
+// themselves are checked in-process by exporters_test.cpp.
+TEST_F(CurvesCli, ExportWritesTheChosenFormat) {
+  const struct {
+    const char* flag;
+    const char* out;
+    ExportFormat format;
+  } cases[] = {{"--format pbrt-v3", "b.pbrt", ExportFormat::PbrtV3},
+               {"--format fcurves", "e.fcurves", ExportFormat::Fcurves},
+               {"", "f.obj", ExportFormat::Obj}};  // format from the extension
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.out);
+    const Result r = run("export " + path("f.fcurves") + " " + c.flag + " -o " + path(c.out));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("1 shaft, 6 barbs"), std::string::npos) << r.out;
+    ExportOptions options;
+    options.image_filename = fs::path(c.out).stem().string() + ".exr";
+    EXPECT_EQ(read_file(dir_ / c.out), export_text(feather_, c.format, options));
+  }
+  EXPECT_EQ(read_fcurves(dir_ / "e.fcurves"), feather_);
+}
+
+TEST_F(CurvesCli, ExportFailuresExitOneAndLeaveNoPartialOutput) {
+  write_file_atomic(dir_ / "old.pbrt", "previous contents\n");
+  write_file_atomic(dir_ / "bad.fcurves", "fcurves 1\nunits cm\n");
+  const std::size_t before = files_in_dir();
+
+  Result r = run("export " + path("bad.fcurves") + " --format pbrt -o " + path("old.pbrt"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("plumage: error: " + (dir_ / "bad.fcurves").string() + ":2:7: units"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(read_file(dir_ / "old.pbrt"), "previous contents\n");
+
+  r = run("export " + path("f.fcurves") + " --format obj -o " + path("no_such_dir/x.obj"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
+
+  // Nothing new in the directory: no output, no temporary file.
+  EXPECT_EQ(files_in_dir(), before);
+}
+
+TEST_F(CurvesCli, ExportUsageErrorsExitTwo) {
+  EXPECT_EQ(run("export " + path("f.fcurves") + " --format usd -o " + path("x.usd")).status, 2);
+  const Result r = run("export " + path("f.fcurves") + " -o " + path("x.usd"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--format"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "x.usd"));
+  const Result help = run("export --help");
+  EXPECT_EQ(help.status, 0);
+  EXPECT_NE(help.out.find("pbrt-v3"), std::string::npos);
+  EXPECT_NE(help.out.find("Exit status"), std::string::npos);
+}
+
+TEST_F(CurvesCli, InfoSummarisesTheFeather) {
+  const Result r = run("info " + path("f.fcurves"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("1 shaft, 6 barbs (3 left, 3 right)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(std::to_string(feather_.num_control_points())), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("test:sample, seed 1"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("texture \"albedo.png\""), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("theta_b 42.5 deg"), std::string::npos) << r.out;
+
+  const Result j = run("info --json " + path("f.fcurves"));
+  ASSERT_EQ(j.status, 0) << j.err;
+  const auto json = nlohmann::json::parse(j.out);
+  EXPECT_EQ(json["curves"]["barbs"], 6);
+  EXPECT_EQ(json["control_points"], feather_.num_control_points());
+  EXPECT_EQ(json["substructure"]["right"]["elevation"], 42.5);
+  EXPECT_EQ(json["albedo"]["color"][0], 0.42);
+  // The shaft of the sample runs along +Y: its length is at least the straight
+  // distance between the curve's end points and less than its control polygon.
+  const auto& s = feather_.curves[0].points;
+  const double chord = glm::distance(glm::dvec3(s[0].p + 4.0f * s[1].p + s[2].p) / 6.0,
+                                     glm::dvec3(s[9].p + 4.0f * s[10].p + s[11].p) / 6.0);
+  double polygon = 0;
+  for (std::size_t i = 1; i < s.size(); ++i)
+    polygon += glm::distance(glm::dvec3(s[i - 1].p), glm::dvec3(s[i].p));
+  EXPECT_GE(json["shaft_length"].get<double>(), chord * (1 - 1e-9));
+  EXPECT_LE(json["shaft_length"].get<double>(), polygon);
+  EXPECT_LE(json["barb_length"]["min"].get<double>(), json["barb_length"]["mean"].get<double>());
+  EXPECT_LE(json["barb_length"]["mean"].get<double>(), json["barb_length"]["max"].get<double>());
+  // Centreline bounds lie inside the control points' bounds (convex hull).
+  for (int a = 0; a < 3; ++a) {
+    float lo = std::numeric_limits<float>::max(), hi = -lo;
+    for (const Curve& c : feather_.curves)
+      for (const ControlPoint& p : c.points) lo = std::min(lo, p.p[a]), hi = std::max(hi, p.p[a]);
+    EXPECT_GE(json["bounds"]["min"][a].get<double>(), lo - 1e-6);
+    EXPECT_LE(json["bounds"]["max"][a].get<double>(), hi + 1e-6);
+  }
+}
+
+TEST_F(CurvesCli, InfoReportsBadFilesAndUsage) {
+  write_file_atomic(dir_ / "bad.fcurves", "fcurves 9\n");
+  Result r = run("info " + path("bad.fcurves"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find(":1:9: format version 9 is newer"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty());
+  r = run("info " + path("missing.fcurves"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("missing.fcurves"), std::string::npos) << r.err;
+  EXPECT_EQ(run("info " + path("f.fcurves") + " --bogus").status, 2);
+}
+
+}  // namespace

@@ -1,0 +1,104 @@
+#pragma once
+// A feather drawn from its definition, with known shaft, outline, barb angle
+// and barb spacing: the ground truth for photo-analysis tests and benchmarks.
+#include <algorithm>
+#include <cmath>
+#include <glm/glm.hpp>
+#include <random>
+
+#include "plumage/common/image.h"
+
+namespace plumage::synthetic {
+
+inline constexpr double kPi = 3.14159265358979323846;
+
+// A feather drawn from its definition: shaft from `calamus` along `dir` for
+// `length` px; vanes from 20% of the length to the tip with half-widths
+// w_side * sin(pi u)^0.6; straight barbs leaving the shaft at `theta_deg`
+// toward the tip, one every `spacing` px along the shaft.
+struct SyntheticFeather {
+  int width = 900, height = 700;
+  glm::dvec2 calamus{250, 640};
+  double dir_deg = -62;  // image angle of calamus->tip (y down, so negative is up)
+  double length = 560, shaft_width = 5;
+  double w_left = 60, w_right = 95;
+  double theta_deg = 38, spacing = 9;
+  bool dark_background = false;
+  double noise = 0.02;
+  unsigned seed = 1;
+
+  glm::dvec2 dir() const { return {std::cos(dir_deg * kPi / 180), std::sin(dir_deg * kPi / 180)}; }
+  glm::dvec2 right() const { return {-dir().y, dir().x}; }  // feather +X, tip up
+  glm::dvec2 tip() const { return calamus + dir() * length; }
+  double vane_start() const { return 0.2 * length; }
+  double half_width(double y, int side) const {
+    if (y < vane_start() || y > length) return 0.0;
+    const double u = (y - vane_start()) / (length - vane_start());
+    return (side < 0 ? w_left : w_right) * std::pow(std::sin(kPi * u), 0.6);
+  }
+  // 0 outside, 1 vane, 2 shaft; and the barb brightness factor.
+  int classify(glm::dvec2 p, double& shade) const {
+    const glm::dvec2 d = p - calamus;
+    const double y = glm::dot(d, dir()), x = glm::dot(d, right());
+    shade = 1.0;
+    if (y >= 0 && y <= length && std::fabs(x) <= 0.5 * shaft_width * (1.0 - 0.5 * y / length))
+      return 2;
+    if (y < 0 || y > length) return 0;
+    const int side = x < 0 ? -1 : 1;
+    if (std::fabs(x) > half_width(y, side)) return 0;
+    const double phase = (y - std::fabs(x) / std::tan(theta_deg * kPi / 180)) / spacing;
+    shade = 0.72 + 0.28 * std::cos(2 * kPi * phase);
+    return 1;
+  }
+  bool inside(glm::dvec2 p) const {
+    double s;
+    return classify(p, s) != 0;
+  }
+
+  // sRGB-valued picture, 3x3 supersampled, blurred, with Gaussian noise.
+  Image draw(int channels = 3) const {
+    const glm::vec3 bg = dark_background ? glm::vec3(0.04f) : glm::vec3(0.96f);
+    const glm::vec3 vane =
+        dark_background ? glm::vec3(0.85f, 0.72f, 0.66f) : glm::vec3(0.80f, 0.50f, 0.48f);
+    const glm::vec3 rachis(0.55f, 0.18f, 0.10f);
+    Image img(width, height, 3);
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        glm::vec3 acc(0.f);
+        for (int sy = 0; sy < 3; ++sy)
+          for (int sx = 0; sx < 3; ++sx) {
+            double shade;
+            const int c = classify({x + (sx + 0.5) / 3.0, y + (sy + 0.5) / 3.0}, shade);
+            acc += c == 0 ? bg : c == 2 ? rachis : vane * float(shade);
+          }
+        img.set_rgb(x, y, acc / 9.0f);
+      }
+    Image blurred = img;
+    for (int y = 1; y + 1 < height; ++y)
+      for (int x = 1; x + 1 < width; ++x) {
+        glm::vec3 s(0.f);
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx)
+            s += img.rgb(x + dx, y + dy) * float((2 - std::abs(dx)) * (2 - std::abs(dy)));
+        blurred.set_rgb(x, y, s / 16.0f);
+      }
+    std::mt19937 rng(seed);
+    std::normal_distribution<float> n(0.f, float(noise));
+    Image out(width, height, channels);
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        const glm::vec3 c = blurred.rgb(x, y);
+        float* p = out.at(x, y);
+        if (channels == 1) {
+          p[0] =
+              srgb_to_linear(std::clamp(0.3f * c.x + 0.59f * c.y + 0.11f * c.z + n(rng), 0.f, 1.f));
+          continue;
+        }
+        for (int k = 0; k < 3; ++k) p[k] = srgb_to_linear(std::clamp(c[k] + n(rng), 0.f, 1.f));
+        if (channels == 4) p[3] = inside({x + 0.5, y + 0.5}) ? 1.f : 0.f;
+      }
+    return out;
+  }
+};
+
+}  // namespace plumage::synthetic
