@@ -17,8 +17,7 @@ default_targets="fcurves feather_params"
 if [[ -f generator/include/plumage/generator/analysis/layout.h ]]; then
   default_targets+=" layout"
 else
-  # TODO(issue 7): the analysis branch has not landed; tests/fuzz/CMakeLists.txt and
-  # this script pick up fuzz_layout by themselves once layout.h is on main.
+  # A checkout without photo analysis (tests/fuzz/CMakeLists.txt skips it too).
   echo "fuzz.sh: analysis/layout.h not present yet: fuzz_layout skipped" >&2
 fi
 targets=${TARGETS:-$default_targets}

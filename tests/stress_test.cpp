@@ -1,6 +1,7 @@
 // Numerical stress (issue 7): the hair BCSDF over millions of random and
-// adversarial inputs, and tiny renders of degenerate curves (coincident control
-// points, zero and huge radii, far from the origin, extremely thin ribbons).
+// adversarial inputs, and tiny renders, in hair and substructure mode, of
+// degenerate curves (coincident control points, zero and huge radii, far from the
+// origin, extremely thin ribbons).
 // 10^6 BCSDF inputs by default; PLUMAGE_STRESS=1 (scripts/sanitize.sh) runs 10^7.
 #include <gtest/gtest.h>
 #include <xmmintrin.h>
@@ -232,8 +233,10 @@ std::int64_t bad_sample_counter() {
 // `height` mm tall, lit by a distant light from above-front; direct light only
 // unless `depth` says otherwise, so a dark pixel on a fibre means a shadow.
 Shot shoot(const Feather& feather, const glm::vec3& centre, float height, int px, int spp, int depth = 1,
-           bool environment = false) {
-  const Scene scene(feather, SceneOptions{});
+           bool environment = false, ShadingMode mode = ShadingMode::Hair) {
+  SceneOptions so;
+  so.mode = mode;
+  const Scene scene(feather, so);
   LightSet lights;
   lights.add(DirectionalLight{glm::normalize(glm::vec3(0.0f, -0.3f, 1.0f)), glm::vec3(3.0f)});
   if (environment) lights.set_environment(EnvironmentLight(glm::vec3(0.5f)));
@@ -257,6 +260,23 @@ Shot shoot(const Feather& feather, const glm::vec3& centre, float height, int px
     if (!std::isfinite(v)) ++shot.nan_pixels;
   return shot;
 }
+
+// Both vanes get barbules (DESIGN §5), so substructure mode has something to find.
+Feather with_substructure(Feather f) {
+  SubstructureParams p;
+  p.barbules_per_side = 40;
+  p.ramus_radius = 0.04f;
+  p.barbule_radius = 0.01f;
+  p.elevation_deg = 45;
+  p.azimuth_deg = 10;
+  p.hooked_fraction = 0.2f;
+  p.ribbon_width = 0.4f;
+  f.left = f.right = p;
+  return f;
+}
+
+const char* name(ShadingMode m) { return m == ShadingMode::Hair ? "hair" : "substructure"; }
+constexpr ShadingMode kModes[] = {ShadingMode::Hair, ShadingMode::Substructure};
 
 // A feather whose every curve is moved by `offset`.
 Feather moved(Feather f, const glm::vec3& offset) {
@@ -336,37 +356,42 @@ TEST(StressRender, CoincidentControlPointsGiveNoNaN) {
   for (Curve* c : {&point, &doubled, &folded}) f.curves.push_back(*c);
   // The shaft with every control point in one place too.
   for (auto& cp : f.curves[0].points) cp.p = {0, 10, 0};
-  const Shot shot = shoot(f, {0, 10, 0}, 24.0f, 24, 8, 4, true);
-  EXPECT_GT(coverage(shot.image, 0.5f), 0.05);
-  EXPECT_EQ(shot.nan_pixels, 0);
-  EXPECT_EQ(shot.bad_samples, 0);
+  for (ShadingMode mode : kModes) {
+    const Shot shot = shoot(with_substructure(f), {0, 10, 0}, 24.0f, 24, 8, 4, true, mode);
+    EXPECT_GT(coverage(shot.image, 0.5f), 0.05) << name(mode);
+    EXPECT_EQ(shot.nan_pixels, 0) << name(mode);
+    EXPECT_EQ(shot.bad_samples, 0) << name(mode);
+  }
 }
 
 TEST(StressRender, ZeroAndHugeRadiiGiveNoNaN) {
   Feather zero = test::make_test_feather(20.0f, 1.0f, 0.0f);
   for (auto& cp : zero.curves[0].points) cp.radius = 0.0f;
-  const Shot z = shoot(zero, {0, 10, 0}, 24.0f, 16, 4, 4, true);
-  EXPECT_EQ(z.nan_pixels, 0);
-  EXPECT_EQ(z.bad_samples, 0);
-
   // Radii far larger than the curves are long: the ribbons cover each other and the view.
   Feather huge = test::make_test_feather(20.0f, 2.0f, 1e3f);
   for (auto& cp : huge.curves[0].points) cp.radius = 1e4f;
-  const Shot h = shoot(huge, {0, 10, 0}, 24.0f, 16, 4, 4, true);
-  // Not all of the view: Embree drops flat-curve hits within 2 radii of the ray
-  // origin (DESIGN §4), and the camera is 50 mm from ribbons 2 m wide.
-  EXPECT_GT(coverage(h.image, 0.5f), 0.1) << "huge ribbons must be in view";
-  EXPECT_EQ(h.nan_pixels, 0);
-  EXPECT_EQ(h.bad_samples, 0);
+  for (ShadingMode mode : kModes) {
+    const Shot z = shoot(with_substructure(zero), {0, 10, 0}, 24.0f, 16, 4, 4, true, mode);
+    EXPECT_EQ(z.nan_pixels, 0) << name(mode);
+    EXPECT_EQ(z.bad_samples, 0) << name(mode);
+    const Shot h = shoot(with_substructure(huge), {0, 10, 0}, 24.0f, 16, 4, 4, true, mode);
+    // Not all of the view: Embree drops flat-curve hits within 2 radii of the ray
+    // origin (DESIGN §4), and the camera is 50 mm from ribbons 2 m wide.
+    EXPECT_GT(coverage(h.image, 0.5f), 0.1) << name(mode) << ": huge fibres must be in view";
+    EXPECT_EQ(h.nan_pixels, 0) << name(mode);
+    EXPECT_EQ(h.bad_samples, 0) << name(mode);
+  }
 }
 
 TEST(StressRender, ExtremelyThinRibbonsGiveNoNaN) {
-  for (float radius : {1e-6f, 1e-20f, kDenorm}) {
-    const Shot s = shoot(test::make_test_feather(20.0f, 0.5f, radius), {0, 10, 0}, 24.0f, 16, 4, 4, true);
-    EXPECT_GT(coverage(s.image, 0.5f), 0.01) << "the shaft at least is in view";
-    EXPECT_EQ(s.nan_pixels, 0) << radius;
-    EXPECT_EQ(s.bad_samples, 0) << radius;
-  }
+  for (ShadingMode mode : kModes)
+    for (float radius : {1e-6f, 1e-20f, kDenorm}) {
+      const Feather f = with_substructure(test::make_test_feather(20.0f, 0.5f, radius));
+      const Shot s = shoot(f, {0, 10, 0}, 24.0f, 16, 4, 4, true, mode);
+      EXPECT_GT(coverage(s.image, 0.5f), 0.01) << name(mode) << ": the shaft at least is in view";
+      EXPECT_EQ(s.nan_pixels, 0) << name(mode) << " " << radius;
+      EXPECT_EQ(s.bad_samples, 0) << name(mode) << " " << radius;
+    }
 }
 
 TEST(StressRender, LitFibreFarFromTheOriginHasNoAcne) {
@@ -396,12 +421,15 @@ TEST(StressRender, FeatherFarFromTheOriginLooksTheSame) {
   // Multiple bounces among neighbouring barbs, 10^5 mm out.
   const Feather f = test::make_test_feather(20.0f, 0.5f, 0.08f);
   const glm::vec3 c(0, 10, 0), off(1e5f, -1e5f, 0);
-  const Shot near = shoot(f, c, 22.0f, 32, 16, 4);
-  const Shot far = shoot(moved(f, off), c + off, 22.0f, 32, 16, 4);
-  EXPECT_EQ(far.nan_pixels, 0);
-  EXPECT_EQ(far.bad_samples, 0);
-  const RibbonStats a = ribbon_stats(near.image, near.image), b = ribbon_stats(far.image, near.image);
-  ASSERT_GT(a.pixels, 50);
-  EXPECT_NEAR(b.mean, a.mean, 0.1 * a.mean);
-  EXPECT_LT(b.dark_fraction, a.dark_fraction + 0.05);
+  for (ShadingMode mode : kModes) {
+    const Feather g = with_substructure(f);
+    const Shot near = shoot(g, c, 22.0f, 32, 16, 4, false, mode);
+    const Shot far = shoot(moved(g, off), c + off, 22.0f, 32, 16, 4, false, mode);
+    EXPECT_EQ(far.nan_pixels, 0) << name(mode);
+    EXPECT_EQ(far.bad_samples, 0) << name(mode);
+    const RibbonStats a = ribbon_stats(near.image, near.image), b = ribbon_stats(far.image, near.image);
+    ASSERT_GT(a.pixels, 50) << name(mode);
+    EXPECT_NEAR(b.mean, a.mean, 0.1 * a.mean) << name(mode);
+    EXPECT_LT(b.dark_fraction, a.dark_fraction + 0.05) << name(mode);
+  }
 }
