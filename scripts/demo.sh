@@ -29,7 +29,7 @@ preset=${PRESET:-osprey-wing-covert}
 "$plumage" info "$out/feather.fcurves"
 if "$plumage" --help | grep -q "compare"; then
   # Hair and substructure shading side by side: same camera, dome LEDs, samples, exposure.
-  "$plumage" compare "$out/feather.fcurves" --spp ${SPP:-16} -o "$out/side_by_side.png"
+  "$plumage" compare "$out/feather.fcurves" --spp ${SPP:-32} -o "$out/side_by_side.png"
   echo "demo: wrote $out/feather.fcurves, $out/preview.png and the side-by-side $out/side_by_side.png"
 elif "$plumage" --help | grep -q "render"; then
   "$plumage" render "$out/feather.fcurves" --shading hair --lights all --spp ${SPP:-16} -o "$out/hair.png"

@@ -5,6 +5,7 @@
 // preset, regenerate the reference with
 //   PLUMAGE_UPDATE_GOLDEN=1 build/plumage_tests --gtest_filter='CompareGolden.*'
 // and look at it before committing.
+#include <unistd.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -157,14 +158,14 @@ struct CliRun {
   std::string err;
 };
 CliRun run_cli(const std::string& args) {
-  const fs::path err = fs::temp_directory_path() / "plumage_compare_cli_stderr.txt";
+  const fs::path err = fs::temp_directory_path() / ("plumage_compare_cli_stderr_" + std::to_string(::getpid()) + ".txt");
   const int status = std::system((std::string(PLUMAGE_CLI) + " -q " + args + " 2> " + err.string()).c_str());
   return {WEXITSTATUS(status), fs::exists(err) ? read_file(err) : ""};
 }
 }  // namespace
 
 TEST(CompareCli, WritesSideBySideAndLightSequenceAndRejectsBadInput) {
-  const fs::path dir = fs::temp_directory_path() / "plumage_compare_cli_test";
+  const fs::path dir = fs::temp_directory_path() / ("plumage_compare_cli_test_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   Feather f = test::make_test_feather(12.0f, 1.0f, 0.05f);

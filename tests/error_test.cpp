@@ -1,3 +1,4 @@
+#include <unistd.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -16,7 +17,7 @@ TEST(Error, FormatsPlace) {
 
 TEST(AtomicFile, FailedWriteLeavesOldFileIntact) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / "plumage_atomic_test";
+  const fs::path dir = fs::temp_directory_path() / ("plumage_atomic_test_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   const fs::path f = dir / "out.txt";

@@ -1,6 +1,7 @@
 // `plumage render` end to end: it writes the image it is asked for, and bad input
 // (missing files, absurd flags) gives a one-line error and a non-zero exit without
 // leaving a file behind.
+#include <unistd.h>
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -23,7 +24,7 @@ struct CliRun {
 };
 
 CliRun plumage_render(const std::string& args) {
-  const fs::path dir = fs::temp_directory_path() / "plumage_render_cli_test";
+  const fs::path dir = fs::temp_directory_path() / ("plumage_render_cli_test_" + std::to_string(::getpid()));
   const fs::path err = dir / "stderr.txt";
   const std::string cmd = std::string(PLUMAGE_CLI) + " -q render " + args + " 2> " + err.string();
   const int status = std::system(cmd.c_str());
@@ -31,7 +32,7 @@ CliRun plumage_render(const std::string& args) {
 }
 
 fs::path setup_dir() {
-  const fs::path dir = fs::temp_directory_path() / "plumage_render_cli_test";
+  const fs::path dir = fs::temp_directory_path() / ("plumage_render_cli_test_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   write_fcurves(dir / "feather.fcurves", test::make_test_feather(20.0f, 1.0f, 0.05f));

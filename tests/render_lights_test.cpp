@@ -1,6 +1,7 @@
 // Lights: sphere-light sampling matches its pdf, the environment map's sampling
 // pdf is a density, the dome rig file and --lights are read strictly, and
 // missing files give a plumage::Error naming them.
+#include <unistd.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -18,7 +19,7 @@ namespace fs = std::filesystem;
 namespace {
 constexpr float kPi = std::numbers::pi_v<float>;
 fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / "plumage_render_lights_test";
+  const fs::path d = fs::temp_directory_path() / ("plumage_render_lights_test_" + std::to_string(::getpid()));
   fs::create_directories(d);
   return d;
 }

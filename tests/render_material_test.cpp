@@ -1,5 +1,6 @@
 // Fibre absorption from the feather's albedo (constant or texture through the rect
 // mapping), and the integrator's guard against non-finite samples.
+#include <unistd.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -14,7 +15,7 @@ using namespace plumage;
 namespace fs = std::filesystem;
 
 TEST(RenderMaterial, TextureMapsThroughTheRectTipUp) {
-  const fs::path dir = fs::temp_directory_path() / "plumage_render_material_test";
+  const fs::path dir = fs::temp_directory_path() / ("plumage_render_material_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   // 2x2 texture: top row red | green, bottom row blue | white (linear EXR).
   Image tex(2, 2, 3);

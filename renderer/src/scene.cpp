@@ -151,10 +151,7 @@ Scene::Scene(const Feather& feather, const SceneOptions& options)
   bounds_.hi = -bounds_.lo;
   for (const Curve& c : feather_.curves)
     for (const ControlPoint& cp : c.points) {
-      // In substructure mode a barb is as wide as its vane's ribbon.
-      const float r = c.kind == CurveKind::Barb && options_.mode == ShadingMode::Substructure
-                          ? (c.side == VaneSide::Right ? right_ : left_)->half_width()
-                          : cp.radius;
+      const float r = render_radius(c, cp);
       bounds_.lo = glm::min(bounds_.lo, cp.p - glm::vec3(r));
       bounds_.hi = glm::max(bounds_.hi, cp.p + glm::vec3(r));
       max_radius_ = std::max(max_radius_, r);
@@ -174,14 +171,22 @@ Scene::Scene(const Feather& feather, const SceneOptions& options)
 
 Scene::~Scene() = default;
 
+// DESIGN §4: hair and substructure modes draw a barb with the same centreline and
+// width, the barb's full width W (ramus plus barbules) from its vane's parameters,
+// so the two shadings cover the same area and differ only in what the ribbon holds.
+// A vane without a ribbon width falls back to the curve's own radius.
+float Scene::render_radius(const Curve& c, const ControlPoint& cp) const {
+  if (c.kind != CurveKind::Barb) return cp.radius;
+  const float w = feather_.substructure(c.side).ribbon_width;
+  return w > 0 ? 0.5f * w : cp.radius;
+}
+
 void Scene::add_curves(CurveGeometry& g, CurveKind kind, int rtc_type) {
   for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci) {
     const Curve& c = feather_.curves[ci];
     if (c.kind != kind) continue;
     const auto first = std::uint32_t(g.vertices.size());
-    const bool in_vane = rtc_type == RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE;
-    for (const ControlPoint& cp : c.points)
-      g.vertices.emplace_back(cp.p, in_vane ? (c.side == VaneSide::Right ? right_ : left_)->half_width() : cp.radius);
+    for (const ControlPoint& cp : c.points) g.vertices.emplace_back(cp.p, render_radius(c, cp));
     for (std::uint32_t s = 0; s + 3 < c.points.size(); ++s) {
       g.indices.push_back(first + s);
       g.prims.push_back({ci, first + s});
