@@ -275,6 +275,10 @@ Feather with_substructure(Feather f) {
   return f;
 }
 
+// Hair mode draws barbs at the vane's ribbon width when one is given (DESIGN §4),
+// so it gets the curves' own radii only without substructure parameters.
+Feather for_mode(const Feather& f, ShadingMode m) { return m == ShadingMode::Hair ? f : with_substructure(f); }
+
 const char* name(ShadingMode m) { return m == ShadingMode::Hair ? "hair" : "substructure"; }
 constexpr ShadingMode kModes[] = {ShadingMode::Hair, ShadingMode::Substructure};
 
@@ -357,7 +361,7 @@ TEST(StressRender, CoincidentControlPointsGiveNoNaN) {
   // The shaft with every control point in one place too.
   for (auto& cp : f.curves[0].points) cp.p = {0, 10, 0};
   for (ShadingMode mode : kModes) {
-    const Shot shot = shoot(with_substructure(f), {0, 10, 0}, 24.0f, 24, 8, 4, true, mode);
+    const Shot shot = shoot(for_mode(f, mode), {0, 10, 0}, 24.0f, 24, 8, 4, true, mode);
     EXPECT_GT(coverage(shot.image, 0.5f), 0.05) << name(mode);
     EXPECT_EQ(shot.nan_pixels, 0) << name(mode);
     EXPECT_EQ(shot.bad_samples, 0) << name(mode);
@@ -371,10 +375,10 @@ TEST(StressRender, ZeroAndHugeRadiiGiveNoNaN) {
   Feather huge = test::make_test_feather(20.0f, 2.0f, 1e3f);
   for (auto& cp : huge.curves[0].points) cp.radius = 1e4f;
   for (ShadingMode mode : kModes) {
-    const Shot z = shoot(with_substructure(zero), {0, 10, 0}, 24.0f, 16, 4, 4, true, mode);
+    const Shot z = shoot(for_mode(zero, mode), {0, 10, 0}, 24.0f, 16, 4, 4, true, mode);
     EXPECT_EQ(z.nan_pixels, 0) << name(mode);
     EXPECT_EQ(z.bad_samples, 0) << name(mode);
-    const Shot h = shoot(with_substructure(huge), {0, 10, 0}, 24.0f, 16, 4, 4, true, mode);
+    const Shot h = shoot(for_mode(huge, mode), {0, 10, 0}, 24.0f, 16, 4, 4, true, mode);
     // Not all of the view: Embree drops flat-curve hits within 2 radii of the ray
     // origin (DESIGN §4), and the camera is 50 mm from ribbons 2 m wide.
     EXPECT_GT(coverage(h.image, 0.5f), 0.1) << name(mode) << ": huge fibres must be in view";
@@ -386,7 +390,7 @@ TEST(StressRender, ZeroAndHugeRadiiGiveNoNaN) {
 TEST(StressRender, ExtremelyThinRibbonsGiveNoNaN) {
   for (ShadingMode mode : kModes)
     for (float radius : {1e-6f, 1e-20f, kDenorm}) {
-      const Feather f = with_substructure(test::make_test_feather(20.0f, 0.5f, radius));
+      const Feather f = for_mode(test::make_test_feather(20.0f, 0.5f, radius), mode);
       const Shot s = shoot(f, {0, 10, 0}, 24.0f, 16, 4, 4, true, mode);
       EXPECT_GT(coverage(s.image, 0.5f), 0.01) << name(mode) << ": the shaft at least is in view";
       EXPECT_EQ(s.nan_pixels, 0) << name(mode) << " " << radius;
@@ -422,7 +426,7 @@ TEST(StressRender, FeatherFarFromTheOriginLooksTheSame) {
   const Feather f = test::make_test_feather(20.0f, 0.5f, 0.08f);
   const glm::vec3 c(0, 10, 0), off(1e5f, -1e5f, 0);
   for (ShadingMode mode : kModes) {
-    const Feather g = with_substructure(f);
+    const Feather g = for_mode(f, mode);
     const Shot near = shoot(g, c, 22.0f, 32, 16, 4, false, mode);
     const Shot far = shoot(moved(g, off), c + off, 22.0f, 32, 16, 4, false, mode);
     EXPECT_EQ(far.nan_pixels, 0) << name(mode);
