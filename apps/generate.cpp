@@ -1,5 +1,6 @@
 // `plumage generate`: species preset or params JSON -> feather.fcurves (+ preview).
 #include <iostream>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -7,7 +8,9 @@
 #include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
+#include "plumage/generator/analysis/layout.h"
 #include "plumage/generator/builder.h"
+#include "plumage/generator/layout_to_params.h"
 #include "plumage/generator/presets.h"
 #include "plumage/generator/preview.h"
 
@@ -16,10 +19,49 @@ namespace {
 
 struct GenerateArgs {
   std::string preset, params, layout, output, preview;
+  std::optional<int> feather;
   std::uint64_t seed = 1;
   int preview_size = 1024;
   bool list_presets = false, print_params = false;
 };
+
+void check_output(const GenerateArgs& a) {
+  if (a.output.empty()) throw Error("no output file: give -o feather.fcurves");
+  if (std::filesystem::path(a.output).extension() != ".fcurves")
+    throw Error(Location{a.output}, "the output must be a .fcurves file; convert it afterwards with `plumage export`");
+}
+
+// The feather a layout.json describes (docs/layout-format.md), its albedo texture
+// referenced relative to the curve file.
+int run_generate_from_layout(const GenerateArgs& a) {
+  check_output(a);
+  const Layout layout = read_layout(a.layout);
+  const FeatherLayout& f = pick_feather(layout, a.feather, a.layout);
+  std::vector<std::string> warnings;
+  const std::filesystem::path out_dir = std::filesystem::path(a.output).parent_path();
+  // The renderable albedo (mask filled) goes next to the curve file: NAME.albedo.png.
+  const std::filesystem::path texture = std::filesystem::path(a.output).replace_extension(".albedo.png");
+  const Feather feather =
+      layout_to_feather_with_albedo(f, a.seed, std::filesystem::path(a.layout).parent_path(),
+                                    out_dir.empty() ? "." : out_dir, texture, a.layout, &warnings);
+  validate_feather(feather);
+  try {
+    write_fcurves(a.output, feather);
+  } catch (...) {
+    std::error_code ec;
+    if (!feather.albedo.texture.empty()) std::filesystem::remove(texture, ec);
+    throw;
+  }
+  if (!a.preview.empty()) write_image(a.preview, render_preview(feather, PreviewOptions{a.preview_size, true}));
+  for (const auto& w : warnings) std::cerr << "warning: " << a.layout << ": feather " << f.id << ": " << w << "\n";
+  if (!global_options().quiet) {
+    std::cout << "wrote " << a.output << ": feather " << f.id << " of " << a.layout << " (seed " << a.seed
+              << "), 1 shaft + " << feather.count(CurveKind::Barb) << " barbs (left "
+              << feather.count(VaneSide::Left) << ", right " << feather.count(VaneSide::Right) << ")\n";
+    if (!a.preview.empty()) std::cout << "wrote " << a.preview << " (top view)\n";
+  }
+  return 0;
+}
 
 int run_generate(const GenerateArgs& a) {
   if (a.list_presets) {
@@ -32,9 +74,7 @@ int run_generate(const GenerateArgs& a) {
     }
     return 0;
   }
-  if (!a.layout.empty())
-    throw Error(Location{a.layout}, "--layout is not yet supported: the analysis stage's layout.json format "
-                                    "does not exist yet; use --preset or --params");
+  if (!a.layout.empty()) return run_generate_from_layout(a);
   if (a.preset.empty() == a.params.empty())
     throw Error("give exactly one of --preset NAME or --params FILE (see `plumage generate --list-presets`)");
 
@@ -43,9 +83,7 @@ int run_generate(const GenerateArgs& a) {
     std::cout << params_to_json(params).dump(2) << "\n";
     if (a.output.empty()) return 0;
   }
-  if (a.output.empty()) throw Error("no output file: give -o feather.fcurves");
-  if (std::filesystem::path(a.output).extension() != ".fcurves")
-    throw Error(Location{a.output}, "the output must be a .fcurves file; convert it afterwards with `plumage export`");
+  check_output(a);
 
   const std::string source = a.preset.empty() ? "params:" + a.params : "preset:" + a.preset;
   const Feather feather = build_feather(params, a.seed, source);
@@ -73,10 +111,13 @@ const Registration reg{
           "  plumage generate --preset osprey-wing-covert --seed 1 -o feather.fcurves --preview preview.png\n"
           "  plumage generate --preset rock-dove-wing --print-params > my.json   (start a custom feather)\n"
           "  plumage generate --params my.json --seed 7 -o my.fcurves\n"
+          "  plumage generate --layout layout.json --feather 2 -o photo.fcurves   (from `plumage analyze`)\n"
           "Parameters, units and ranges: docs/generator.md; preset sources: docs/presets.md.");
       auto* preset = sub.add_option("--preset", a->preset, "Species preset by name (--list-presets)");
       auto* params = sub.add_option("--params", a->params, "Feather parameters JSON file (docs/generator.md)");
-      auto* layout = sub.add_option("--layout", a->layout, "Analysis layout.json (not yet supported)");
+      auto* layout = sub.add_option("--layout", a->layout, "Analysis layout.json from `plumage analyze` (docs/layout-format.md)");
+      sub.add_option("--feather", a->feather, "With --layout: which feather (its id, F<id> on the overlay; default the first)")
+          ->check(CLI::PositiveNumber);
       preset->excludes(params)->excludes(layout);
       params->excludes(layout);
       sub.add_option("--seed", a->seed, "Random seed: same seed, same feather (default 1)");

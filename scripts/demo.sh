@@ -4,7 +4,7 @@
 # and says where everything went.
 #   scripts/demo.sh                  the Osprey wing covert preset
 #   PRESET=rock-dove-wing scripts/demo.sh
-#   scripts/demo.sh PHOTO            (photo-to-feather: not yet available)
+#   scripts/demo.sh PHOTO            photo-to-feather on PHOTO (MM_PER_PX=0.08 SPP=32 optional)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -17,8 +17,8 @@ mkdir -p "$out"
 
 if [ $# -ge 1 ]; then
   if "$plumage" --help | grep -q photo-to-feather; then
-    "$plumage" photo-to-feather "$1" -o "$out"
-    echo "demo: wrote the photo-to-feather results to $out/"
+    "$plumage" photo-to-feather "$1" -o "$out" --spp "${SPP:-16}" ${MM_PER_PX:+--mm-per-px "$MM_PER_PX"}
+    echo "demo: wrote the photo-to-feather results to $out/ (comparison.png: photo | hair | substructure)"
     exit 0
   fi
   echo "demo: photo-to-feather is not implemented yet (issue 6); running the preset instead" >&2

@@ -95,7 +95,7 @@ TEST_F(GenerateCli, BadInputNamesTheProblemAndLeavesNoFile) {
   } cases[] = {
       {"generate -o " + path("x.fcurves"), "give exactly one of --preset NAME or --params FILE"},
       {"generate --preset rock-dove-wing", "no output file"},
-      {"generate --layout " + path("layout.json") + " -o " + path("x.fcurves"), "--layout is not yet supported"},
+      {"generate --layout " + path("layout.json") + " -o " + path("x.fcurves"), path("layout.json")},  // missing file
       {"generate --params " + path("bad.json") + " -o " + path("keep.fcurves"),
        path("bad.json") + ": shaft.length: value -3 is out of range; allowed [1, 2000] mm"},
   };

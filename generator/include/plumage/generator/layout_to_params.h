@@ -1,0 +1,63 @@
+#pragma once
+// From what photo analysis measured (FeatherLayout, docs/layout-format.md) to what
+// the procedural generator builds from (FeatherParams), and on to a Feather that
+// sits where the analysed feather lies in feather coordinates: the curves follow
+// the photo's shaft, vane widths, barb angles and spacing (DESIGN §8, issue 6).
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "plumage/common/feather.h"
+#include "plumage/common/image.h"
+#include "plumage/generator/analysis/layout.h"
+#include "plumage/generator/feather_params.h"
+
+namespace plumage {
+
+struct LayoutParams {
+  FeatherParams params;
+  // In-plane rotation (degrees, counter-clockwise about +Z) that brings the
+  // generated shaft's chord onto the analysed one (+Y): the bent arc the builder
+  // makes leans its chord by about half the bend.
+  double chord_rotation_deg = 0;
+  // Values replaced because analysis was unsure of them, for a person to read.
+  std::vector<std::string> warnings;
+};
+
+// Measurements with confidence below this are not trusted (docs/layout-format.md).
+inline constexpr double kLayoutMinConfidence = 0.5;
+
+// Throws plumage::Error naming `source` (the layout file) and the bad value when
+// the layout cannot describe a feather (no shaft length, stations out of order,
+// profiles of the wrong length, non-finite numbers).
+LayoutParams layout_to_params(const FeatherLayout& layout, const std::string& source = "layout");
+
+// The feather with id `id`, or the first when none is given; plumage::Error
+// listing the ids there are when it is not in the layout.
+const FeatherLayout& pick_feather(const Layout& layout, std::optional<int> id, const std::string& source = "layout");
+
+// Builds the feather of `layout`, rotated so its chord follows the analysed shaft,
+// with the analysis albedo texture mapped by its rectangle. `albedo_dir` is the
+// folder of layout.json (where the albedo PNG is) and `fcurves_dir` the folder the
+// curve file will be written to: the texture path is stored relative to it.
+Feather layout_to_feather(const FeatherLayout& layout, std::uint64_t seed, const std::filesystem::path& albedo_dir,
+                          const std::filesystem::path& fcurves_dir, const std::string& source = "layout",
+                          std::vector<std::string>* warnings = nullptr);
+
+// The analysis albedo (RGBA, alpha = the photo's mask) made usable for rendering:
+// generated barbs reach texels outside the mask, which hold the background, so
+// those get the mean colour under the mask (RGB result). `mean` receives it.
+Image albedo_for_render(const Image& analysis_albedo, glm::vec3* mean = nullptr);
+
+// layout_to_feather, then the filled albedo written as `texture_path` (atomically)
+// and referenced by the feather relative to `fcurves_dir`, its mean as the
+// feather's constant colour. What `generate --layout` and photo-to-feather use.
+Feather layout_to_feather_with_albedo(const FeatherLayout& layout, std::uint64_t seed,
+                                      const std::filesystem::path& albedo_dir,
+                                      const std::filesystem::path& fcurves_dir,
+                                      const std::filesystem::path& texture_path, const std::string& source,
+                                      std::vector<std::string>* warnings = nullptr);
+
+}  // namespace plumage

@@ -1,0 +1,313 @@
+#include "plumage/generator/layout_to_params.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <sstream>
+
+#include "plumage/common/error.h"
+#include "plumage/generator/builder.h"
+
+namespace plumage {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::string num(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+struct Checker {
+  std::string source;
+  [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+    throw Error(Location{source}, where + ": " + what + " (see docs/layout-format.md; re-run `plumage analyze`)");
+  }
+  void finite(const std::string& where, const std::vector<double>& v) const {
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (!std::isfinite(v[i])) fail(where + "[" + std::to_string(i) + "]", "value is not a finite number");
+  }
+  void profile(const std::string& where, const std::vector<double>& v, const std::vector<double>& c,
+               std::size_t n) const {
+    if (v.size() != n || c.size() != n)
+      fail(where, "expected " + std::to_string(n) + " values and confidences (one per station), got " +
+                      std::to_string(v.size()) + " and " + std::to_string(c.size()));
+    finite(where, v);
+    finite(where + "_confidence", c);
+  }
+};
+
+void check_layout(const FeatherLayout& f, const Checker& c) {
+  const std::string at = "feather " + std::to_string(f.id);
+  if (!std::isfinite(f.length_mm) || f.length_mm < 1.0 || f.length_mm > 2000.0)
+    c.fail(at + " shaft.length_mm", "value " + num(f.length_mm) + " is out of range; allowed [1, 2000] mm");
+  if (!f.shaft_mm.valid()) c.fail(at + " shaft.control_points_mm", "needs at least 4 control points");
+  for (const auto& p : f.shaft_mm.control_points())
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) c.fail(at + " shaft.control_points_mm", "not a finite number");
+  const auto& t = f.stations_t;
+  if (t.size() < 2) c.fail(at + " stations_t", "needs at least 2 stations, got " + std::to_string(t.size()));
+  c.finite(at + " stations_t", t);
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    if (t[i] < 0.0 || t[i] > 1.0) c.fail(at + " stations_t[" + std::to_string(i) + "]", "must lie in [0, 1]");
+    if (i > 0 && !(t[i] > t[i - 1]))
+      c.fail(at + " stations_t[" + std::to_string(i) + "]", "stations must increase strictly");
+  }
+  for (const auto& [name, v] : {std::pair<const char*, const VaneProfile*>{"left", &f.left}, {"right", &f.right}}) {
+    const std::string p = at + " vanes." + name + ".";
+    c.profile(p + "width_mm", v->width_mm, v->width_confidence, t.size());
+    c.profile(p + "barb_angle_deg", v->barb_angle_deg, v->barb_angle_confidence, t.size());
+    c.profile(p + "barb_spacing_mm", v->barb_spacing_mm, v->barb_spacing_confidence, t.size());
+  }
+}
+
+// (station t, value) pairs analysis was sure of.
+std::vector<glm::dvec2> trusted(const std::vector<double>& t, const std::vector<double>& v,
+                                const std::vector<double>& conf) {
+  std::vector<glm::dvec2> out;
+  for (std::size_t i = 0; i < t.size(); ++i)
+    if (conf[i] >= kLayoutMinConfidence) out.push_back({t[i], v[i]});
+  return out;
+}
+
+// Linear interpolation through (t, value) pairs, held constant past the ends.
+double interpolate(const std::vector<glm::dvec2>& pts, double t) {
+  if (t <= pts.front().x) return pts.front().y;
+  if (t >= pts.back().x) return pts.back().y;
+  const auto hi = std::upper_bound(pts.begin(), pts.end(), t, [](double a, const glm::dvec2& p) { return a < p.x; });
+  const auto lo = hi - 1;
+  return glm::mix(lo->y, hi->y, (t - lo->x) / (hi->x - lo->x));
+}
+
+// A generator Profile over vane position x = (s - calamus) / (L - calamus) from
+// measurements over shaft fraction t = s / L: knots at the stations inside the
+// vane, plus both ends read off the measurements.
+Profile vane_profile(const std::vector<glm::dvec2>& pts, double calamus_t, double lo, double hi) {
+  std::vector<glm::dvec2> knots{{0.0, std::clamp(interpolate(pts, calamus_t), lo, hi)}};
+  for (const auto& p : pts) {
+    const double x = (p.x - calamus_t) / (1.0 - calamus_t);
+    if (x > knots.back().x + 1e-4 && x < 1.0 - 1e-4) knots.push_back({x, std::clamp(p.y, lo, hi)});
+  }
+  knots.push_back({1.0, std::clamp(interpolate(pts, 1.0), lo, hi)});
+  return Profile(std::move(knots));
+}
+
+// The vane closes at the tip: the last station still has width, the tip none.
+Profile width_profile(const std::vector<glm::dvec2>& pts, double calamus_t, double hi) {
+  Profile p = vane_profile(pts, calamus_t, 0.0, hi);
+  std::vector<glm::dvec2> k = p.knots();
+  k.back().y = 0.0;
+  return Profile(std::move(k));
+}
+
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+// Where the vane begins: the first station where either side reaches a tenth of
+// the widest width; the bare calamus is below it.
+double calamus_fraction(const FeatherLayout& f) {
+  double widest = 0;
+  for (std::size_t i = 0; i < f.stations_t.size(); ++i)
+    widest = std::max({widest, f.left.width_mm[i], f.right.width_mm[i]});
+  for (std::size_t i = 0; i < f.stations_t.size(); ++i)
+    if (std::max(f.left.width_mm[i], f.right.width_mm[i]) >= 0.1 * widest)
+      return i == 0 ? 0.0 : std::clamp(0.5 * (f.stations_t[i - 1] + f.stations_t[i]), 0.0, 0.5);
+  return 0.0;
+}
+
+}  // namespace
+
+LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source) {
+  const Checker check{source};
+  check_layout(f, check);
+  const FeatherParams preset = default_feather_params();
+  LayoutParams out;
+  FeatherParams& p = out.params;
+  p = preset;
+  p.name = "photo-feather-" + std::to_string(f.id);
+  p.description = "feather " + std::to_string(f.id) + " of " + source;
+  const double L = f.length_mm;
+  const double calamus_t = calamus_fraction(f);
+  p.shaft.length = L;
+  p.shaft.calamus_length = calamus_t * L;
+  // The builder bends its shaft along a circular arc. An arc turning by T has
+  // sagitta h over chord c with h / c = tan(T / 4) / 2; reading T off the
+  // midpoint rather than the end tangents keeps a hooked tip from bending the
+  // whole shaft. + bend is toward +X (clockwise seen from the dorsal side).
+  const glm::dvec2 p0 = f.shaft_mm.eval(0.0), p1 = f.shaft_mm.eval(1.0), pm = f.shaft_mm.eval(0.5);
+  const glm::dvec2 chord = p1 - p0;
+  const double c = glm::length(chord);
+  const double h = c > 0 ? (chord.x * (pm - p0).y - chord.y * (pm - p0).x) / c : 0.0;  // + left of the chord
+  // An anticlockwise arc bulges to the right of its chord (h < 0).
+  const double turn = c > 0 ? -4.0 * std::atan(2.0 * h / c) : 0.0;
+  p.shaft.bend_deg = std::isfinite(turn) ? std::clamp(-turn * 180.0 / kPi, -90.0, 90.0) : 0.0;
+  const double r_base = 0.5 * f.shaft_width_mm;
+  p.shaft.radius_base = std::isfinite(r_base) && r_base > 1e-3 ? std::min(r_base, 0.02 * L) : 0.004 * L;
+  p.shaft.radius_tip = std::max(1e-4, 0.15 * p.shaft.radius_base);
+  p.barb.radius_root = std::clamp(0.15 * p.shaft.radius_base, 1e-3, 0.2);
+  p.barb.radius_tip = 0.4 * p.barb.radius_root;
+
+  const double vane_length = L - p.shaft.calamus_length;
+  const double preset_spacing = preset.vane_length() / preset.barb_count(VaneSide::Left);
+  std::optional<double> spacing[2];
+  const VaneProfile* sides[2] = {&f.left, &f.right};
+  const char* names[2] = {"left", "right"};
+  for (int s = 0; s < 2; ++s) {
+    const auto sp = trusted(f.stations_t, sides[s]->barb_spacing_mm, sides[s]->barb_spacing_confidence);
+    std::vector<double> values;
+    for (const auto& q : sp)
+      if (q.y > 0) values.push_back(q.y);
+    if (!values.empty()) spacing[s] = median(values);
+  }
+  for (int s = 0; s < 2; ++s) {
+    const VaneProfile& v = *sides[s];
+    VaneParams& vp = p.vane(s == 0 ? VaneSide::Left : VaneSide::Right);
+    const std::string side = names[s];
+
+    auto width = trusted(f.stations_t, v.width_mm, v.width_confidence);
+    if (width.empty()) {
+      out.warnings.push_back(side + " vane width: no station is confident; used the default feather's profile "
+                                    "scaled to the shaft length");
+      for (const auto& k : preset.left.width.knots())
+        width.push_back({calamus_t + k.x * (1 - calamus_t), k.y * L / preset.shaft.length});
+    }
+    vp.width = width_profile(width, calamus_t, 2.0 * L);
+    if (!(vp.width.max_value() > 0)) {
+      out.warnings.push_back(side + " vane width: all measured widths are 0; used 2% of the length");
+      vp.width = Profile({{0.0, 0.02 * L}, {1.0, 0.02 * L}});
+    }
+
+    auto angle = trusted(f.stations_t, v.barb_angle_deg, v.barb_angle_confidence);
+    // Past 90° a barb would point back toward the calamus; near the tip, where
+    // barbs run almost along the shaft, the orientation estimate wraps to ~180°.
+    const auto before = angle.size();
+    std::erase_if(angle, [](const glm::dvec2& q) { return q.y > 90.0; });
+    if (angle.size() != before)
+      out.warnings.push_back(side + " barb angle: " + std::to_string(before - angle.size()) +
+                             " station(s) above 90 degrees ignored");
+    if (angle.empty()) {
+      out.warnings.push_back(side + " barb angle: no station is confident; used the default feather's profile");
+      for (const auto& k : preset.left.angle_deg.knots())
+        angle.push_back({calamus_t + k.x * (1 - calamus_t), k.y});
+    }
+    if (std::any_of(angle.begin(), angle.end(), [](const glm::dvec2& q) { return q.y < 5; }))
+      out.warnings.push_back(side + " barb angle: values below 5 degrees raised to 5");
+    vp.angle_deg = vane_profile(angle, calamus_t, 5.0, 90.0);
+
+    double d = 0;
+    if (spacing[s]) {
+      d = *spacing[s];
+    } else if (spacing[1 - s]) {
+      d = *spacing[1 - s];
+      out.warnings.push_back(side + " barb spacing: not confident; used the " + names[1 - s] + " vane's");
+    } else {
+      d = preset_spacing;
+      out.warnings.push_back(side + " barb spacing: not confident on either side; used the default feather's " +
+                             num(d) + " mm");
+    }
+    // Barbs per side = vane length / spacing along the shaft (docs/layout-format.md).
+    vp.barb_density = 0;
+    vp.barbs = int(std::clamp(std::lround(vane_length / d), 2L, 5000L));
+  }
+  validate(p, source);
+  return out;
+}
+
+const FeatherLayout& pick_feather(const Layout& layout, std::optional<int> id, const std::string& source) {
+  if (layout.feathers.empty()) throw Error(Location{source}, "the layout has no feathers; re-run `plumage analyze`");
+  if (!id) return layout.feathers.front();
+  std::string ids;
+  for (const auto& f : layout.feathers) {
+    if (f.id == *id) return f;
+    ids += (ids.empty() ? "" : ", ") + std::to_string(f.id);
+  }
+  throw Error(Location{source}, "--feather " + std::to_string(*id) + ": no such feather; the layout has " + ids);
+}
+
+Feather layout_to_feather(const FeatherLayout& f, std::uint64_t seed, const std::filesystem::path& albedo_dir,
+                          const std::filesystem::path& fcurves_dir, const std::string& source,
+                          std::vector<std::string>* warnings) {
+  LayoutParams lp = layout_to_params(f, source);
+  Feather feather = build_feather(lp.params, seed, "layout:" + source);
+  if (warnings) *warnings = lp.warnings;
+
+  // Turn the built feather about its calamus so its chord lies on the analysed
+  // chord, then move the calamus onto the analysed one.
+  const Curve* shaft = feather.shaft();
+  if (shaft && shaft->points.size() >= 4) {
+    BSpline3 built;
+    for (const auto& cp : shaft->points) built.control_points().push_back(glm::dvec3(cp.p));
+    const glm::dvec3 b0 = built.eval(0.0), b1 = built.eval(1.0);
+    const glm::dvec2 a0 = f.shaft_mm.eval(0.0), a1 = f.shaft_mm.eval(1.0);
+    const double angle = std::atan2(a1.y - a0.y, a1.x - a0.x) - std::atan2(b1.y - b0.y, b1.x - b0.x);
+    const float c = float(std::cos(angle)), s = float(std::sin(angle));
+    const glm::vec2 from(b0), to(a0);
+    const auto turn = [&](glm::vec2 v) { return glm::vec2(c * v.x - s * v.y, s * v.x + c * v.y); };
+    for (Curve& curve : feather.curves)
+      for (ControlPoint& cp : curve.points) {
+        const glm::vec2 q = turn(glm::vec2(cp.p) - from) + to;
+        cp.p = glm::vec3(q, cp.p.z);
+        cp.n = glm::vec3(turn(glm::vec2(cp.n)), cp.n.z);
+      }
+  }
+
+  if (!f.albedo.file.empty()) {
+    if (!(f.albedo.width_px > 0 && f.albedo.height_px > 0 && f.albedo.mm_per_texel > 0))
+      throw Error(Location{source}, "feather " + std::to_string(f.id) +
+                                        " albedo: width_px, height_px and mm_per_texel must be positive");
+    const std::filesystem::path tex = std::filesystem::absolute(albedo_dir / f.albedo.file);
+    if (!std::filesystem::exists(tex))
+      throw Error(Location{source}, "feather " + std::to_string(f.id) + " albedo texture " + tex.string() +
+                                        " does not exist; keep it next to the layout or re-run `plumage analyze`");
+    const std::filesystem::path rel = tex.lexically_proximate(std::filesystem::absolute(fcurves_dir));
+    feather.albedo.texture = rel.generic_string();
+    const double s = f.albedo.mm_per_texel;
+    feather.albedo.rect_min = glm::vec2(f.albedo.origin_mm.x, f.albedo.origin_mm.y - f.albedo.height_px * s);
+    feather.albedo.rect_max = glm::vec2(f.albedo.origin_mm.x + f.albedo.width_px * s, f.albedo.origin_mm.y);
+  }
+  feather.provenance.source = "layout:" + source;
+  feather.provenance.seed = seed;
+  return feather;
+}
+
+Image albedo_for_render(const Image& a, glm::vec3* mean) {
+  if (a.empty()) throw Error("the albedo texture is empty");
+  glm::dvec3 sum(0.0);
+  double weight = 0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      const double alpha = a.channels == 4 ? a.at(x, y)[3] : 1.0;
+      sum += alpha * glm::dvec3(a.rgb(x, y));
+      weight += alpha;
+    }
+  const glm::vec3 m = weight > 0 ? glm::vec3(sum / weight) : glm::vec3(0.5f);
+  Image out(a.width, a.height, 3);
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      const float alpha = a.channels == 4 ? a.at(x, y)[3] : 1.0f;
+      out.set_rgb(x, y, glm::mix(m, a.rgb(x, y), alpha));
+    }
+  if (mean) *mean = m;
+  return out;
+}
+
+Feather layout_to_feather_with_albedo(const FeatherLayout& layout, std::uint64_t seed,
+                                      const std::filesystem::path& albedo_dir,
+                                      const std::filesystem::path& fcurves_dir,
+                                      const std::filesystem::path& texture_path, const std::string& source,
+                                      std::vector<std::string>* warnings) {
+  Feather feather = layout_to_feather(layout, seed, albedo_dir, fcurves_dir, source, warnings);
+  if (feather.albedo.texture.empty()) return feather;
+  glm::vec3 mean;
+  const Image filled = albedo_for_render(read_image(albedo_dir / layout.albedo.file), &mean);
+  write_image(texture_path, filled);
+  feather.albedo.color = mean;
+  feather.albedo.texture = std::filesystem::absolute(texture_path)
+                               .lexically_proximate(std::filesystem::absolute(fcurves_dir))
+                               .generic_string();
+  return feather;
+}
+
+}  // namespace plumage

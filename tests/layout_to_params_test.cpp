@@ -1,0 +1,281 @@
+// FeatherLayout -> FeatherParams -> Feather: the generated feather has the
+// analysed length, shaft direction, widths, barb angles and barb count, unsure
+// values are replaced with a warning, and bad layouts are refused by name.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <tuple>
+#include <unistd.h>
+
+#include "plumage/common/bspline.h"
+#include "plumage/common/error.h"
+#include "plumage/generator/builder.h"
+#include "plumage/generator/layout_to_params.h"
+
+using namespace plumage;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kLength = 120.0, kWidthLeft = 22.0, kWidthRight = 30.0;
+constexpr double kAngleLeft = 40.0, kAngleRight = 55.0, kSpacing = 0.8;
+
+double true_width(double t, double w) { return t < 0.15 ? 0.0 : w * std::pow(std::sin(kPi * (t - 0.15) / 0.85), 0.5); }
+
+// A layout as analysis would report it for a feather with a known shaft (an arc
+// turning by `bend_deg`, chord on +Y) and known vane profiles.
+FeatherLayout known_layout(double bend_deg = 0.0) {
+  FeatherLayout f;
+  f.id = 3;
+  const int n = 12;
+  std::vector<glm::dvec2> pts;
+  const double turn = bend_deg * kPi / 180.0;
+  for (int i = 0; i < n; ++i) {
+    const double s = double(i - 1) / double(n - 3);  // phantom ends: eval(0), eval(1) at the ends
+    // A circular arc whose tangent turns anticlockwise by `turn`, chord on +Y.
+    const double a = turn * (s - 0.5);
+    pts.push_back(turn == 0.0 ? glm::dvec2(0.0, kLength * s)
+                              : glm::dvec2((std::cos(a) - std::cos(0.5 * turn)) * kLength / turn,
+                                           (std::sin(a) + std::sin(0.5 * turn)) * kLength / turn));
+  }
+  f.shaft_mm = BSpline2(pts);
+  f.length_mm = arc_length(BSpline3([&] {
+    std::vector<glm::dvec3> v;
+    for (auto& p : pts) v.push_back(glm::dvec3(p, 0));
+    return v;
+  }()));
+  f.shaft_width_mm = 1.6;
+  for (int i = 0; i < 24; ++i) f.stations_t.push_back((i + 0.5) / 24.0);
+  for (auto [v, w, a] : {std::tuple{&f.left, kWidthLeft, kAngleLeft}, std::tuple{&f.right, kWidthRight, kAngleRight}}) {
+    for (double t : f.stations_t) {
+      v->width_mm.push_back(true_width(t, w));
+      v->width_confidence.push_back(1.0);
+      v->barb_angle_deg.push_back(a);
+      v->barb_angle_confidence.push_back(0.9);
+      v->barb_spacing_mm.push_back(kSpacing);
+      v->barb_spacing_confidence.push_back(0.8);
+    }
+  }
+  return f;
+}
+
+BSpline3 spline(const Curve& c) {
+  std::vector<glm::dvec3> v;
+  for (const auto& p : c.points) v.push_back(glm::dvec3(p.p));
+  return BSpline3(v);
+}
+
+bool has_warning(const std::vector<std::string>& w, const std::string& text) {
+  return std::any_of(w.begin(), w.end(), [&](const std::string& s) { return s.find(text) != std::string::npos; });
+}
+
+}  // namespace
+
+TEST(LayoutToParams, ParamsFollowTheMeasurements) {
+  const LayoutParams lp = layout_to_params(known_layout(), "known.json");
+  const FeatherParams& p = lp.params;
+  EXPECT_TRUE(lp.warnings.empty());
+  EXPECT_NEAR(p.shaft.length, kLength, 1e-6);
+  // The vane starts between the last bare station (t < 0.15) and the first with width.
+  EXPECT_NEAR(p.shaft.calamus_length / kLength, 0.15, 0.05);
+  EXPECT_NEAR(p.shaft.bend_deg, 0.0, 1e-6);
+  const double barbs = p.vane_length() / kSpacing;
+  EXPECT_NEAR(p.barb_count(VaneSide::Left), barbs, 1.0);
+  EXPECT_NEAR(p.barb_count(VaneSide::Right), barbs, 1.0);
+  for (double t : {0.3, 0.5, 0.7, 0.9}) {
+    const double x = (t * kLength - p.shaft.calamus_length) / p.vane_length();
+    EXPECT_NEAR(p.left.width(x), true_width(t, kWidthLeft), 0.03 * kWidthLeft) << "t=" << t;
+    EXPECT_NEAR(p.right.width(x), true_width(t, kWidthRight), 0.03 * kWidthRight) << "t=" << t;
+    EXPECT_NEAR(p.left.angle_deg(x), kAngleLeft, 1e-6);
+    EXPECT_NEAR(p.right.angle_deg(x), kAngleRight, 1e-6);
+  }
+}
+
+TEST(LayoutToParams, FeatherMatchesBarbCountLengthWidthsAndAngles) {
+  const FeatherLayout f = known_layout();
+  const Feather feather = layout_to_feather(f, 7, ".", ".", "known.json");
+  const double vane = f.length_mm * (1.0 - 0.15);
+  EXPECT_NEAR(double(feather.count(VaneSide::Left)), vane / kSpacing, 0.05 * vane / kSpacing);
+  EXPECT_NEAR(double(feather.count(VaneSide::Right)), vane / kSpacing, 0.05 * vane / kSpacing);
+  ASSERT_NE(feather.shaft(), nullptr);
+  const BSpline3 shaft = spline(*feather.shaft());
+  EXPECT_NEAR(arc_length(shaft), kLength, 0.01 * kLength);
+  EXPECT_NEAR(glm::length(glm::dvec2(shaft.eval(1.0)) - f.shaft_mm.eval(1.0)), 0.0, 0.01 * kLength);
+
+  double reach_left = 0, reach_right = 0;
+  std::vector<double> angle_left, angle_right;
+  for (const Curve& c : feather.curves) {
+    if (c.kind != CurveKind::Barb) continue;
+    const BSpline3 b = spline(c);
+    for (double u = 0; u <= 1.0; u += 0.05) {
+      const double x = b.eval(u).x;
+      (c.side == VaneSide::Left ? reach_left : reach_right) = std::max(
+          c.side == VaneSide::Left ? reach_left : reach_right, c.side == VaneSide::Left ? -x : x);
+    }
+    if (c.root > 0.4 && c.root < 0.8) {
+      // Angle at the root between the barb and the shaft's tip direction (+Y here).
+      const glm::dvec3 d = glm::normalize(b.deriv(0.0));
+      (c.side == VaneSide::Left ? angle_left : angle_right).push_back(std::acos(std::clamp(d.y, -1.0, 1.0)) * 180 / kPi);
+    }
+  }
+  // The widest part of each vane reaches as far as the widest measured width.
+  EXPECT_NEAR(reach_left, kWidthLeft, 0.1 * kWidthLeft);
+  EXPECT_NEAR(reach_right, kWidthRight, 0.1 * kWidthRight);
+  ASSERT_FALSE(angle_left.empty());
+  ASSERT_FALSE(angle_right.empty());
+  std::sort(angle_left.begin(), angle_left.end());
+  std::sort(angle_right.begin(), angle_right.end());
+  EXPECT_NEAR(angle_left[angle_left.size() / 2], kAngleLeft, 5.0);
+  EXPECT_NEAR(angle_right[angle_right.size() / 2], kAngleRight, 5.0);
+}
+
+TEST(LayoutToParams, BentShaftEndsWhereTheAnalysedShaftEnds) {
+  for (double bend : {-40.0, 25.0}) {
+    const FeatherLayout f = known_layout(bend);
+    const LayoutParams lp = layout_to_params(f, "bent.json");
+    EXPECT_NEAR(lp.params.shaft.bend_deg, -bend, 2.0) << bend;  // + bends toward +X, i.e. clockwise
+    const Feather feather = layout_to_feather(f, 1, ".", ".", "bent.json");
+    const BSpline3 shaft = spline(*feather.shaft());
+    for (double t : {0.0, 0.5, 1.0})
+      EXPECT_NEAR(glm::length(glm::dvec2(shaft.eval(t)) - f.shaft_mm.eval(t)), 0.0, 0.02 * kLength)
+          << "bend " << bend << " t " << t;
+  }
+}
+
+TEST(LayoutToParams, UnsureValuesAreReplacedWithAWarning) {
+  FeatherLayout f = known_layout();
+  std::fill(f.right.barb_spacing_confidence.begin(), f.right.barb_spacing_confidence.end(), 0.1);
+  std::fill(f.left.barb_angle_confidence.begin(), f.left.barb_angle_confidence.end(), 0.0);
+  std::fill(f.left.barb_angle_deg.begin(), f.left.barb_angle_deg.end(), 170.0);  // nonsense, but unsure
+  // A wild width at one unsure station must not show up in the profile.
+  f.right.width_mm[12] = 500.0;
+  f.right.width_confidence[12] = 0.0;
+  const LayoutParams lp = layout_to_params(f, "unsure.json");
+  EXPECT_TRUE(has_warning(lp.warnings, "right barb spacing")) << lp.warnings.size();
+  EXPECT_TRUE(has_warning(lp.warnings, "left barb angle"));
+  EXPECT_EQ(lp.params.barb_count(VaneSide::Right), lp.params.barb_count(VaneSide::Left));
+  const FeatherParams d = default_feather_params();
+  EXPECT_NEAR(lp.params.left.angle_deg(0.5), d.left.angle_deg(0.5), 1e-9);
+  EXPECT_LT(lp.params.right.width.max_value(), 1.05 * kWidthRight);
+
+  std::fill(f.left.barb_spacing_confidence.begin(), f.left.barb_spacing_confidence.end(), 0.0);
+  const LayoutParams none = layout_to_params(f, "unsure.json");
+  EXPECT_TRUE(has_warning(none.warnings, "either side"));
+  EXPECT_NEAR(none.params.vane_length() / none.params.barb_count(VaneSide::Left),
+              d.vane_length() / d.barb_count(VaneSide::Left), 0.05);
+}
+
+TEST(LayoutToParams, ExtremeMeasurementsStayInTheGeneratorsRange) {
+  FeatherLayout f = known_layout();
+  for (auto* v : {&f.left, &f.right}) {
+    std::fill(v->barb_angle_deg.begin(), v->barb_angle_deg.end(), 179.0);
+    std::fill(v->barb_spacing_mm.begin(), v->barb_spacing_mm.end(), 1e-6);  // would be millions of barbs
+    std::fill(v->width_mm.begin(), v->width_mm.end(), 0.0);
+  }
+  const LayoutParams lp = layout_to_params(f, "extreme.json");  // validate() inside: would throw
+  EXPECT_LE(lp.params.barb_count(VaneSide::Left), 5000);
+  EXPECT_LE(lp.params.left.angle_deg.max_value(), 90.0);
+  EXPECT_GT(lp.params.left.width.max_value(), 0.0);
+  EXPECT_TRUE(has_warning(lp.warnings, "above 90 degrees ignored"));
+  EXPECT_NEAR(lp.params.left.angle_deg(0.5), default_feather_params().left.angle_deg(0.5), 1e-9);
+  EXPECT_TRUE(has_warning(lp.warnings, "widths are 0"));
+}
+
+TEST(LayoutToParams, WrappedTipAnglesAreIgnoredAndTinyOnesRaised) {
+  FeatherLayout f = known_layout();
+  const std::size_t n = f.stations_t.size();
+  f.left.barb_angle_deg[n - 1] = 176.0;  // orientation wrapped at the tip
+  f.left.barb_angle_deg[n - 2] = 2.0;
+  const LayoutParams lp = layout_to_params(f, "tip.json");
+  EXPECT_TRUE(has_warning(lp.warnings, "1 station(s) above 90 degrees ignored"));
+  EXPECT_TRUE(has_warning(lp.warnings, "raised to 5"));
+  EXPECT_LE(lp.params.left.angle_deg.max_value(), kAngleLeft + 1e-9);
+  EXPECT_GE(lp.params.left.angle_deg.min_value(), 5.0);
+}
+
+TEST(LayoutToParams, BadLayoutsAreRefusedByName) {
+  const auto expect_error = [](const FeatherLayout& f, const std::string& text) {
+    try {
+      layout_to_params(f, "bad.json");
+      ADD_FAILURE() << "no error; expected one mentioning " << text;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+  };
+  FeatherLayout f = known_layout();
+  f.length_mm = 0;
+  expect_error(f, "length_mm");
+  f = known_layout();
+  f.length_mm = std::nan("");
+  expect_error(f, "length_mm");
+  f = known_layout();
+  f.left.width_mm.pop_back();
+  expect_error(f, "expected 24");
+  f = known_layout();
+  f.stations_t[3] = f.stations_t[2];
+  expect_error(f, "stations_t[3]");
+  f = known_layout();
+  f.right.barb_angle_deg[5] = INFINITY;
+  expect_error(f, "barb_angle_deg[5]");
+  f = known_layout();
+  f.shaft_mm = BSpline2({{0, 0}, {0, 1}});
+  expect_error(f, "control_points_mm");
+
+  Layout layout;
+  layout.feathers = {known_layout()};
+  EXPECT_EQ(pick_feather(layout, std::nullopt).id, 3);
+  EXPECT_EQ(pick_feather(layout, 3).id, 3);
+  try {
+    pick_feather(layout, 4, "sheet.json");
+    ADD_FAILURE() << "no error for a missing feather";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("has 3"), std::string::npos) << e.what();
+  }
+  layout.feathers.clear();
+  EXPECT_THROW(pick_feather(layout, std::nullopt), Error);
+}
+
+TEST(LayoutToParams, AlbedoTextureIsReferencedFromTheCurveFilesFolder) {
+  const auto dir = std::filesystem::temp_directory_path() / ("plumage_l2p_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir / "analysis");
+  std::filesystem::create_directories(dir / "curves");
+  { std::ofstream(dir / "analysis" / "a.png") << "x"; }
+  FeatherLayout f = known_layout();
+  f.albedo = {"a.png", 40, 100, {-20.0, 130.0}, 0.5};
+  const Feather feather = layout_to_feather(f, 1, dir / "analysis", dir / "curves", "l.json");
+  EXPECT_EQ(feather.albedo.texture, "../analysis/a.png");
+  EXPECT_NEAR(feather.albedo.rect_min.x, -20.0, 1e-5);
+  EXPECT_NEAR(feather.albedo.rect_min.y, 80.0, 1e-5);
+  EXPECT_NEAR(feather.albedo.rect_max.x, 0.0, 1e-5);
+  EXPECT_NEAR(feather.albedo.rect_max.y, 130.0, 1e-5);
+  f.albedo.file = "missing.png";
+  EXPECT_THROW(layout_to_feather(f, 1, dir / "analysis", dir / "curves", "l.json"), Error);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(LayoutToParams, AlbedoOutsideTheMaskIsTheMeanUnderIt) {
+  Image a(4, 2, 4);
+  // Two opaque texels (red, blue), one half-covered green, the rest background black.
+  a.set_rgb(0, 0, {1, 0, 0});
+  a.at(0, 0)[3] = 1;
+  a.set_rgb(1, 0, {0, 0, 1});
+  a.at(1, 0)[3] = 1;
+  a.set_rgb(2, 0, {0, 1, 0});
+  a.at(2, 0)[3] = 0.5f;
+  glm::vec3 mean;
+  const Image out = albedo_for_render(a, &mean);
+  const glm::vec3 expect = glm::vec3(1, 0.5f, 1) / 2.5f;
+  EXPECT_NEAR(glm::length(mean - expect), 0.0f, 1e-5f);
+  EXPECT_EQ(out.channels, 3);
+  EXPECT_NEAR(glm::length(out.rgb(0, 0) - glm::vec3(1, 0, 0)), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::length(out.rgb(3, 1) - expect), 0.0f, 1e-5f);
+  EXPECT_NEAR(glm::length(out.rgb(2, 0) - 0.5f * (expect + glm::vec3(0, 1, 0))), 0.0f, 1e-5f);
+  Image clear(3, 3, 4);  // nothing under the mask: a neutral grey, not NaN
+  const Image grey = albedo_for_render(clear, &mean);
+  EXPECT_NEAR(grey.rgb(1, 1).x, 0.5f, 1e-6f);
+  EXPECT_THROW(albedo_for_render(Image()), Error);
+}
