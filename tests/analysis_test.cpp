@@ -547,3 +547,16 @@ TEST(AnalysisBadInput, UnwritableOutputLeavesNothingBehind) {
   EXPECT_EQ(files_in(dir), before);
   EXPECT_EQ(read_file(dir / "out.json"), "old");
 }
+
+// Found by fuzz_layout: a number too large for a double made nlohmann throw
+// out_of_range past the reader instead of a plumage::Error naming the file.
+TEST(LayoutJson, NumberOverflowIsAPlumageError) {
+  const std::string text = R"({"format": "plumage-layout", "version": 1e99999})";
+  try {
+    parse_layout(text, "huge.json");
+    FAIL() << "a number that overflows a double was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("huge.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("number overflow"), std::string::npos) << e.what();
+  }
+}

@@ -305,6 +305,11 @@ Layout parse_layout(const std::string& text, const std::string& source) {
         what = what.substr(colon + 2);
     }
     throw Error(location_of_byte(source, text, e.byte), "invalid JSON: " + what);
+  } catch (const json::exception& e) {
+    // Not a syntax error but still unreadable, e.g. a number too large for a double.
+    std::string what = e.what();
+    if (auto k = what.find("] "); k != std::string::npos) what = what.substr(k + 2);
+    throw Error(Location{source}, "invalid JSON: " + what);
   }
   const Reader r{source};
   if (r.string(r.member(doc, "", "format"), "/format") != kFormat)
