@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (clang, ASan+UBSan, build-fuzz/) and runs each for a
 # bounded time, starting from its seed corpus in tests/fuzz/corpus/<target>/.
+# The random seed is fixed (PLUMAGE_FUZZ_SEED, default 1) so a CI run repeats what
+# ran here; set another seed, or a longer time, to explore further.
 #   scripts/fuzz.sh [SECONDS]        default 60 s per target
 #   BUILD_DIR=... JOBS=N TARGETS="fcurves feather_params" scripts/fuzz.sh 30
 # Exits non-zero on the first finding (crash, sanitizer report, hang > 10 s, an
@@ -39,7 +41,7 @@ for t in $targets; do
   mkdir -p "$work"
   echo "== fuzz_$t for ${seconds} s"
   if ! "$build/tests/fuzz/fuzz_$t" "$work" "tests/fuzz/corpus/$t" \
-      -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+      -seed="${PLUMAGE_FUZZ_SEED:-1}" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
       -print_final_stats=1 -artifact_prefix="$build/findings/$t-" 2>"$build/findings/$t.log"; then
     echo "fuzz_$t: FINDING (log: $build/findings/$t.log)"
     grep -E "FUZZ FINDING|ERROR: |runtime error|SUMMARY" "$build/findings/$t.log" | head -20 || true
