@@ -9,6 +9,7 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <unistd.h>
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
@@ -24,7 +25,9 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("plumage_analysis_" + name);
+  // One folder per process: ctest -j runs the parameterised instances side by side.
+  const fs::path d =
+      fs::temp_directory_path() / ("plumage_analysis_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
