@@ -14,26 +14,15 @@
 #include "plumage/generator/builder.h"
 #include "plumage/generator/presets.h"
 
+#include "cli_run.h"
+
 using namespace plumage;
 namespace fs = std::filesystem;
 
 namespace {
 
-struct CliResult {
-  int rc;
-  std::string output;  // stdout and stderr
-};
-
-CliResult plumage_cli(const std::string& args) {
-  const std::string cmd = std::string(PLUMAGE_CLI) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return {-1, "popen failed"};
-  std::string out;
-  char buf[4096];
-  while (std::size_t n = fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+using test::CliResult;
+using test::plumage_cli;
 
 class GenerateCli : public ::testing::Test {
  protected:
