@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <string>
+#include <system_error>
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
@@ -33,5 +35,51 @@ TEST(AtomicFile, FailedWriteLeavesOldFileIntact) {
   for ([[maybe_unused]] auto& e : fs::directory_iterator(dir)) ++n;
   EXPECT_EQ(n, 1);
   EXPECT_THROW(write_file_atomic(dir / "missing" / "x.txt", "y"), Error);
+  fs::remove_all(dir);
+}
+
+// The message of a failed rename must carry the reason of the rename itself,
+// not of the clean-up after it (it once read "cannot rename ...: Success").
+TEST(AtomicFile, FailedRenameReportsTheRealReason) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("plumage_atomic_rename_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const fs::path target = dir / "taken";
+  fs::create_directories(target / "inside");  // a non-empty directory where the file should go
+  try {
+    write_file_atomic(target, "data");
+    ADD_FAILURE() << "renaming a file onto a directory should fail";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("cannot rename"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find("Success"), std::string::npos) << msg;
+    EXPECT_NE(msg.find(std::make_error_code(std::errc::is_a_directory).message()), std::string::npos) << msg;
+  }
+  // The temporary file is gone and the directory is untouched.
+  int n = 0;
+  for ([[maybe_unused]] auto& e : fs::directory_iterator(dir)) ++n;
+  EXPECT_EQ(n, 1);
+  EXPECT_TRUE(fs::is_directory(target / "inside"));
+  fs::remove_all(dir);
+}
+
+// An open that fails reports why: a 250-character name is legal, but the
+// temporary name beside it (".NAME.tmp-PID-N") is longer than a file name may be.
+TEST(AtomicFile, FailedOpenReportsTheRealReason) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("plumage_atomic_open_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  try {
+    write_file_atomic(dir / std::string(250, 'n'), "data");
+    ADD_FAILURE() << "a temporary name over 255 characters should not open";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("cannot open for writing: " +
+                       std::make_error_code(std::errc::filename_too_long).message()),
+              std::string::npos)
+        << msg;
+  }
+  EXPECT_TRUE(fs::is_empty(dir));
   fs::remove_all(dir);
 }

@@ -28,6 +28,14 @@ fs::path temp_name_for(const fs::path& path) {
   tmp.replace_filename(name);
   return tmp;
 }
+
+// The reason the stream call just made failed, read at once so nothing in
+// between (a clean-up, a string being built) can replace errno. Streams do not
+// promise to set errno; when the failed call did not, say so plainly.
+std::string last_error() {
+  const int err = errno;
+  return err ? std::strerror(err) : "unknown reason (no error code from the system)";
+}
 }  // namespace
 
 void write_via_temp(const fs::path& path, const std::function<void(const fs::path&)>& write) {
@@ -44,32 +52,35 @@ void write_via_temp(const fs::path& path, const std::function<void(const fs::pat
     fs::remove(tmp, ec);
     throw;
   }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw Error(Location{path.string()}, "cannot rename temporary file into place: " + ec.message());
+  std::error_code rename_error;
+  fs::rename(tmp, path, rename_error);
+  if (rename_error) {
+    std::error_code ignored;  // the clean-up's own outcome must not replace the reason
+    fs::remove(tmp, ignored);
+    throw Error(Location{path.string()}, "cannot rename temporary file into place: " + rename_error.message());
   }
 }
 
 void write_file_atomic(const fs::path& path, std::string_view contents) {
   write_via_temp(path, [&](const fs::path& tmp) {
+    errno = 0;
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error(Location{path.string()}, std::string("cannot open for writing: ") + std::strerror(errno));
+    if (!out) throw Error(Location{path.string()}, "cannot open for writing: " + last_error());
     out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
     out.flush();
-    if (!out) throw Error(Location{path.string()}, "write failed (disk full?)");
+    if (!out) throw Error(Location{path.string()}, "write failed: " + last_error());
   });
 }
 
 std::string read_file(const fs::path& path) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw Error(Location{path.string()}, "is a directory, expected a file");
+  errno = 0;
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(Location{path.string()}, std::string("cannot open: ") + std::strerror(errno));
+  if (!in) throw Error(Location{path.string()}, "cannot open: " + last_error());
   std::ostringstream ss;
   ss << in.rdbuf();
-  if (in.bad()) throw Error(Location{path.string()}, "read failed");
+  if (in.bad()) throw Error(Location{path.string()}, "read failed: " + last_error());
   return std::move(ss).str();
 }
 
