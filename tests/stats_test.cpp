@@ -66,7 +66,7 @@ TEST(Stats, ConcurrentIncrementsAreNotLost) {
   EXPECT_EQ(g_misses.value(), 400000);
 }
 
-TEST(Stats, PrintGroupsByCategoryAndSkipsZeros) {
+TEST(Stats, PrintGroupsByCategoryAndShowsZeros) {
   stats_reset();
   g_hits += 1234567;
   stats_set_value("StatsTest/Ratio", 0.25);
@@ -81,8 +81,43 @@ TEST(Stats, PrintGroupsByCategoryAndSkipsZeros) {
   EXPECT_GT(hits, category);
   EXPECT_NE(out.find("1234567"), std::string::npos) << out;
   EXPECT_NE(out.find("0.25"), std::string::npos) << out;
-  EXPECT_EQ(out.find("Misses"), std::string::npos) << out;
+  // A counter that reads zero is shown, with its zero: "no NaN samples" is news.
+  const auto misses = out.find("    Misses ");
+  ASSERT_NE(misses, std::string::npos) << out;
+  EXPECT_EQ(out.substr(out.find('\n', misses) - 2, 2), " 0") << out;
   // One heading per category, however many items it has.
   EXPECT_EQ(out.find("\n  StatsTest\n", category + 1), std::string::npos) << out;
+  stats_reset();
+}
+
+TEST(Stats, PrintAlignsNamesAndValuesInColumns) {
+  stats_reset();
+  StatCounter long_name("StatsTest/A counter whose name is much longer than forty characters");
+  long_name += 3;
+  g_hits += 1234567;
+  std::istringstream in([] {
+    std::ostringstream os;
+    stats_print(os);
+    return os.str();
+  }());
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "Statistics:");
+  std::size_t width = 0, items = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("    ", 0) != 0) {  // a category heading
+      EXPECT_EQ(line.rfind("  ", 0), 0u) << line;
+      continue;
+    }
+    ++items;
+    EXPECT_NE(line[4], ' ') << "names start in one column: " << line;
+    EXPECT_NE(line.back(), ' ') << line;
+    if (width == 0) width = line.size();
+    EXPECT_EQ(line.size(), width) << "values end in one column: " << line;
+    // At least two spaces between the name and its value.
+    const auto gap = line.find_last_of(' ');
+    EXPECT_EQ(line.substr(gap - 1, 2), "  ") << line;
+  }
+  EXPECT_GE(items, 3u);
   stats_reset();
 }

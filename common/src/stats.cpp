@@ -1,5 +1,6 @@
 #include "plumage/common/stats.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <mutex>
@@ -53,24 +54,42 @@ void stats_reset() {
   r.values.clear();
 }
 
+namespace {
+std::string format_stat(double value) {
+  char buf[64];
+  if (value == double(static_cast<long long>(value)) && std::abs(value) < 1e15)
+    std::snprintf(buf, sizeof buf, "%lld", static_cast<long long>(value));
+  else
+    std::snprintf(buf, sizeof buf, "%.6g", value);
+  return buf;
+}
+}  // namespace
+
 void stats_print(std::ostream& os) {
-  std::string category;
-  os << "Statistics:\n";
+  struct Row {
+    std::string category, item, value;
+  };
+  std::vector<Row> rows;
+  std::size_t item_width = 0, value_width = 0;
   for (const auto& [name, value] : stats_snapshot()) {
-    if (value == 0) continue;
     const auto slash = name.find('/');
-    const std::string cat = slash == std::string::npos ? "" : name.substr(0, slash);
-    const std::string item = slash == std::string::npos ? name : name.substr(slash + 1);
-    if (cat != category) {
-      os << "  " << cat << "\n";
-      category = cat;
+    Row row{slash == std::string::npos ? "" : name.substr(0, slash),
+            slash == std::string::npos ? name : name.substr(slash + 1), format_stat(value)};
+    item_width = std::max(item_width, row.item.size());
+    value_width = std::max(value_width, row.value.size());
+    rows.push_back(std::move(row));
+  }
+  // Every counter, zeros included (a NaN count of 0 is worth seeing); names
+  // left-aligned and values right-aligned, each in one column.
+  os << "Statistics:\n";
+  const std::string* category = nullptr;
+  for (const Row& r : rows) {
+    if (!category || r.category != *category) {
+      os << "  " << r.category << "\n";
+      category = &r.category;
     }
-    char buf[64];
-    if (value == double(static_cast<long long>(value)) && std::abs(value) < 1e15)
-      std::snprintf(buf, sizeof buf, "%lld", static_cast<long long>(value));
-    else
-      std::snprintf(buf, sizeof buf, "%.6g", value);
-    os << "    " << item << std::string(item.size() < 40 ? 40 - item.size() : 1, ' ') << buf << "\n";
+    os << "    " << r.item << std::string(item_width - r.item.size() + 2, ' ')
+       << std::string(value_width - r.value.size(), ' ') << r.value << "\n";
   }
 }
 

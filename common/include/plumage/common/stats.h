@@ -34,7 +34,8 @@ void stats_set_value(const std::string& name, double value);
 // All counters and values, name -> value.
 std::map<std::string, double> stats_snapshot();
 void stats_reset();
-// Prints the non-zero counters grouped by category.
+// Prints every counter and value, zeros included, grouped by category, with
+// the names and the values each in an aligned column.
 void stats_print(std::ostream& os);
 
 }  // namespace plumage
