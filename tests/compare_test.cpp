@@ -22,6 +22,7 @@
 #include "plumage/renderer/feather_render.h"
 #include "plumage/renderer/label_font.h"
 #include "plumage/renderer/panel_layout.h"
+#include "cli_run.h"
 #include "render_test_feather.h"
 
 using namespace plumage;
@@ -153,15 +154,8 @@ TEST(PanelLayout, ContactSheetGrid) {
 }
 
 namespace {
-struct CliRun {
-  int rc;
-  std::string err;
-};
-CliRun run_cli(const std::string& args) {
-  const fs::path err = fs::temp_directory_path() / ("plumage_compare_cli_stderr_" + std::to_string(::getpid()) + ".txt");
-  const int status = std::system((std::string(PLUMAGE_CLI) + " -q " + args + " 2> " + err.string()).c_str());
-  return {WEXITSTATUS(status), fs::exists(err) ? read_file(err) : ""};
-}
+using CliRun = test::CliStreams;
+CliRun run_cli(const std::string& args) { return test::plumage_cli_streams("-q " + args); }
 }  // namespace
 
 TEST(CompareCli, WritesSideBySideAndLightSequenceAndRejectsBadInput) {

@@ -2,14 +2,13 @@
 // (PLUMAGE_CLI), its exit status (0 ok, 1 bad file, 2 usage error), its output,
 // and the promise that a failed export leaves nothing half-written.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "cli_run.h"
 #include "feather_samples.h"
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/curve_format.h"
@@ -34,20 +33,8 @@ class CurvesCli : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  struct Result {
-    int status;
-    std::string out, err;
-  };
-  Result run(const std::string& args) {
-    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string cmd =
-        std::string("'") + PLUMAGE_CLI + "' " + args + " >'" + out.string() + "' 2>'" + err.string() + "'";
-    const int raw = std::system(cmd.c_str());
-    Result r{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, read_file(out), read_file(err)};
-    fs::remove(out);
-    fs::remove(err);
-    return r;
-  }
+  using Result = test::CliStreams;
+  static Result run(const std::string& args) { return test::plumage_cli_streams(args); }
   std::string path(const std::string& name) const { return "'" + (dir_ / name).string() + "'"; }
   std::size_t files_in_dir() const {
     std::size_t n = 0;
@@ -73,7 +60,7 @@ TEST_F(CurvesCli, ExportWritesTheChosenFormat) {
   for (const auto& c : cases) {
     SCOPED_TRACE(c.out);
     const Result r = run("export " + path("f.fcurves") + " " + c.flag + " -o " + path(c.out));
-    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_EQ(r.rc, 0) << r.err;
     EXPECT_NE(r.out.find("1 shaft, 6 barbs"), std::string::npos) << r.out;
     ExportOptions options;
     options.image_filename = fs::path(c.out).stem().string() + ".exr";
@@ -88,14 +75,14 @@ TEST_F(CurvesCli, ExportFailuresExitOneAndLeaveNoPartialOutput) {
   const std::size_t before = files_in_dir();
 
   Result r = run("export " + path("bad.fcurves") + " --format pbrt -o " + path("old.pbrt"));
-  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.rc, 1);
   EXPECT_NE(r.err.find("plumage: error: " + (dir_ / "bad.fcurves").string() + ":2:7: units"),
             std::string::npos)
       << r.err;
   EXPECT_EQ(read_file(dir_ / "old.pbrt"), "previous contents\n");
 
   r = run("export " + path("f.fcurves") + " --format obj -o " + path("no_such_dir/x.obj"));
-  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.rc, 1);
   EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
 
   // Nothing new in the directory: no output, no temporary file.
@@ -103,20 +90,20 @@ TEST_F(CurvesCli, ExportFailuresExitOneAndLeaveNoPartialOutput) {
 }
 
 TEST_F(CurvesCli, ExportUsageErrorsExitTwo) {
-  EXPECT_EQ(run("export " + path("f.fcurves") + " --format usd -o " + path("x.usd")).status, 2);
+  EXPECT_EQ(run("export " + path("f.fcurves") + " --format usd -o " + path("x.usd")).rc, 2);
   const Result r = run("export " + path("f.fcurves") + " -o " + path("x.usd"));
-  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.rc, 2);
   EXPECT_NE(r.err.find("--format"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "x.usd"));
   const Result help = run("export --help");
-  EXPECT_EQ(help.status, 0);
+  EXPECT_EQ(help.rc, 0);
   EXPECT_NE(help.out.find("pbrt-v3"), std::string::npos);
   EXPECT_NE(help.out.find("Exit status"), std::string::npos);
 }
 
 TEST_F(CurvesCli, InfoSummarisesTheFeather) {
   const Result r = run("info " + path("f.fcurves"));
-  ASSERT_EQ(r.status, 0) << r.err;
+  ASSERT_EQ(r.rc, 0) << r.err;
   EXPECT_NE(r.out.find("1 shaft, 6 barbs (3 left, 3 right)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(std::to_string(feather_.num_control_points())), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("test:sample, seed 1"), std::string::npos) << r.out;
@@ -124,7 +111,7 @@ TEST_F(CurvesCli, InfoSummarisesTheFeather) {
   EXPECT_NE(r.out.find("theta_b 42.5 deg"), std::string::npos) << r.out;
 
   const Result j = run("info --json " + path("f.fcurves"));
-  ASSERT_EQ(j.status, 0) << j.err;
+  ASSERT_EQ(j.rc, 0) << j.err;
   const auto json = nlohmann::json::parse(j.out);
   EXPECT_EQ(json["curves"]["barbs"], 6);
   EXPECT_EQ(json["control_points"], feather_.num_control_points());
@@ -155,13 +142,13 @@ TEST_F(CurvesCli, InfoSummarisesTheFeather) {
 TEST_F(CurvesCli, InfoReportsBadFilesAndUsage) {
   write_file_atomic(dir_ / "bad.fcurves", "fcurves 9\n");
   Result r = run("info " + path("bad.fcurves"));
-  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.rc, 1);
   EXPECT_NE(r.err.find(":1:9: format version 9 is newer"), std::string::npos) << r.err;
   EXPECT_TRUE(r.out.empty());
   r = run("info " + path("missing.fcurves"));
-  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.rc, 1);
   EXPECT_NE(r.err.find("missing.fcurves"), std::string::npos) << r.err;
-  EXPECT_EQ(run("info " + path("f.fcurves") + " --bogus").status, 2);
+  EXPECT_EQ(run("info " + path("f.fcurves") + " --bogus").rc, 2);
 }
 
 }  // namespace

@@ -4,13 +4,12 @@
 #include <unistd.h>
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <string>
 
-#include "plumage/common/atomic_file.h"
 #include "plumage/common/curve_format.h"
 #include "plumage/common/image.h"
+#include "cli_run.h"
 #include "render_test_feather.h"
 
 using namespace plumage;
@@ -18,18 +17,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct CliRun {
-  int rc;
-  std::string err;
-};
+using CliRun = test::CliStreams;
 
-CliRun plumage_render(const std::string& args) {
-  const fs::path dir = fs::temp_directory_path() / ("plumage_render_cli_test_" + std::to_string(::getpid()));
-  const fs::path err = dir / "stderr.txt";
-  const std::string cmd = std::string(PLUMAGE_CLI) + " -q render " + args + " 2> " + err.string();
-  const int status = std::system(cmd.c_str());
-  return {WEXITSTATUS(status), fs::exists(err) ? read_file(err) : ""};
-}
+CliRun plumage_render(const std::string& args) { return test::plumage_cli_streams("-q render " + args); }
 
 fs::path setup_dir() {
   const fs::path dir = fs::temp_directory_path() / ("plumage_render_cli_test_" + std::to_string(::getpid()));
