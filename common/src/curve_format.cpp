@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <system_error>
+#include <utility>
 
 #include "float_text.h"
 #include "plumage/common/atomic_file.h"
@@ -31,6 +32,7 @@ StatCounter bytes_written("Curve files/Bytes formatted");
 constexpr double kNormalTolerance = 1e-3;  // accepted deviation of |n| from 1
 
 using detail::append_float;
+using detail::append_vec3;
 using detail::append_int;
 
 bool printable_string(const std::string& s) {
@@ -579,10 +581,7 @@ std::string format_fcurves(const Feather& f) {
     out += '\n';
   }
   out += "albedo color ";
-  for (int i = 0; i < 3; ++i) {
-    if (i) out += ' ';
-    append_float(out, f.albedo.color[i]);
-  }
+  append_vec3(out, f.albedo.color);
   out += '\n';
   if (!f.albedo.texture.empty()) {
     out += "albedo texture ";
@@ -599,18 +598,14 @@ std::string format_fcurves(const Feather& f) {
     out += to_string(s);
     out += " barbules ";
     append_int(out, p.barbules_per_side);
-    out += " ramus_radius ";
-    append_float(out, p.ramus_radius);
-    out += " barbule_radius ";
-    append_float(out, p.barbule_radius);
-    out += " elevation ";
-    append_float(out, p.elevation_deg);
-    out += " azimuth ";
-    append_float(out, p.azimuth_deg);
-    out += " hooked_fraction ";
-    append_float(out, p.hooked_fraction);
-    out += " ribbon_width ";
-    append_float(out, p.ribbon_width);
+    const std::pair<const char*, float> fields[] = {
+        {" ramus_radius ", p.ramus_radius}, {" barbule_radius ", p.barbule_radius},
+        {" elevation ", p.elevation_deg},   {" azimuth ", p.azimuth_deg},
+        {" hooked_fraction ", p.hooked_fraction}, {" ribbon_width ", p.ribbon_width}};
+    for (const auto& [key, value] : fields) {
+      out += key;
+      append_float(out, value);
+    }
     out += '\n';
   }
   out += "curves ";
@@ -627,19 +622,11 @@ std::string format_fcurves(const Feather& f) {
     append_float(out, c.root);
     out += '\n';
     for (const ControlPoint& p : c.points) {
-      append_float(out, p.p.x);
-      out += ' ';
-      append_float(out, p.p.y);
-      out += ' ';
-      append_float(out, p.p.z);
+      append_vec3(out, p.p);
       out += ' ';
       append_float(out, p.radius);
       out += ' ';
-      append_float(out, p.n.x);
-      out += ' ';
-      append_float(out, p.n.y);
-      out += ' ';
-      append_float(out, p.n.z);
+      append_vec3(out, p.n);
       out += '\n';
     }
   }

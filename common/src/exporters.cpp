@@ -19,6 +19,7 @@
 namespace plumage {
 
 using detail::append_float;
+using detail::append_vec3;
 using detail::append_int;
 
 namespace {
@@ -33,14 +34,6 @@ constexpr FormatName kFormats[] = {{ExportFormat::Fcurves, "fcurves", ".fcurves"
                                    {ExportFormat::PbrtV3, "pbrt-v3", ".pbrt"},
                                    {ExportFormat::Mitsuba, "mitsuba", ".txt"},
                                    {ExportFormat::Obj, "obj", ".obj"}};
-
-void append_vec3(std::string& out, const glm::vec3& v) {
-  append_float(out, v.x);
-  out += ' ';
-  append_float(out, v.y);
-  out += ' ';
-  append_float(out, v.z);
-}
 
 // Value of a uniform cubic B-spline at joint k (0 <= k <= n-3; joint 0 is the
 // start, joint n-3 the end), where the segment basis is (1, 4, 1) / 6. In double,
