@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "float_mode.h"
 #include "plumage/common/error.h"
 #include "plumage/common/progress.h"
 #include "plumage/common/stats.h"
@@ -48,6 +49,7 @@ Film render(const Camera& camera, const PathIntegrator& integrator, const Render
   const std::int64_t saved_before = g_saved.value();
   const auto start = std::chrono::steady_clock::now();
   auto render_tile = [&](int tx, int ty) {
+    const detail::FtzDazScope ftz_daz;  // in every thread, whatever its mode (float_mode.h)
     PixelSampler sampler(settings.sampler, settings.seed);
     PathCounters counters;
     std::int64_t saved = 0;

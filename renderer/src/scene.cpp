@@ -8,6 +8,9 @@
 #include <string>
 
 #include <embree3/rtcore.h>
+#include <tbb/task_arena.h>
+
+#include "float_mode.h"
 
 #include "plumage/common/bspline.h"
 #include "plumage/common/error.h"
@@ -190,7 +193,15 @@ Scene::Scene(const Feather& feather, const SceneOptions& options)
   scene_bounds_ = bounds_;
   if (options_.backdrop.enabled) add_backdrop();
 
-  rtcCommitScene(rtc_->scene);
+  {
+    // TBB gives a thread's tasks the FTZ/DAZ mode the thread had when it first
+    // used TBB. Meet TBB with the caller's own mode, then build in an arena of its
+    // own with FTZ/DAZ on (float_mode.h): neither mode outlives the build.
+    tbb::task_arena build_arena;
+    build_arena.initialize();
+    const detail::FtzDazScope ftz_daz;
+    build_arena.execute([&] { rtcCommitScene(rtc_->scene); });
+  }
   throw_if_device_error("building the Embree scene");
 }
 
