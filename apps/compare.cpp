@@ -6,12 +6,12 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "command.h"
 #include "substructure_options.h"
+#include "view_options.h"
 #include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
@@ -23,18 +23,7 @@ namespace {
 
 struct Options {
   std::string input, output, photo;
-  int spp = 16;
-  bool adaptive = false;
-  float target_error = 0.02f;
-  int min_spp = 16;
-  std::string resolution = "320x480";
-  std::uint64_t seed = 0;
-  int max_depth = 16;
-  float exposure = 0;
-  std::string lights = "all";
-  std::string rig = std::string(PLUMAGE_DATA_DIR) + "/rigs/dome25.json";
-  std::string backdrop = "white";
-  int threads = 0;
+  ViewOptions view{"320x480", "WIDTHxHEIGHT of one panel, e.g. 320x480"};
   bool light_sequence = false;
   int columns = 5;
   SubstructureOverrides substructure;
@@ -45,41 +34,21 @@ std::filesystem::path with_suffix(const std::filesystem::path& p, const std::str
 }
 
 int run_compare(const Options& o) {
-  ViewSpec view;
-  {
-    char x = 0;
-    std::stringstream ss(o.resolution);
-    if (!(ss >> view.width >> x >> view.height) || x != 'x' || !ss.eof())
-      throw Error("--resolution '" + o.resolution + "': give WIDTHxHEIGHT of one panel, e.g. 320x480");
-  }
+  const ViewSpec view = o.view.view_spec(o.input, !global_options().quiet);
   const std::string ext = std::filesystem::path(o.output).extension().string();
   if (ext != ".png" && ext != ".exr" && ext != ".jpg" && ext != ".tif")
     throw Error("-o " + o.output + ": the extension picks the format; use .png (sRGB) or .exr (linear)");
-  if (o.max_depth < 0) throw Error("--max-depth must be 0 or more");
-  view.spp = o.spp;
-  view.adaptive = o.adaptive;
-  view.target_error = o.target_error;
-  view.min_spp = o.min_spp;
-  view.seed = o.seed;
-  view.max_depth = o.max_depth;
-  view.exposure = o.exposure;
-  view.lights = o.lights;
-  view.threads = o.threads;
-  view.progress = !global_options().quiet;
-  view.base_dir = std::filesystem::path(o.input).parent_path();
 
   Feather feather = read_fcurves(o.input);
   o.substructure.apply(feather);
-  const DomeRig rig = read_dome_rig(o.rig);
+  const DomeRig rig = read_dome_rig(o.view.rig);
   // Read the photo before the (long) renders so a bad path fails at once.
   Image photo;
   if (!o.photo.empty()) photo = read_image(o.photo);
 
-  SceneOptions so;
-  if (o.backdrop == "white") so.backdrop = {true, glm::vec3(0.8f)};
-  else if (o.backdrop == "black") so.backdrop = {true, glm::vec3(0.03f)};
-  else if (o.backdrop != "none") throw Error("--backdrop '" + o.backdrop + "': use white, black or none");
   // Both scenes first: a bad substructure parameter fails before anything renders.
+  // With --cull both leave out the same curves: those no panel's camera and LEDs need.
+  SceneOptions so = o.view.scene_options(view, rig);
   so.mode = ShadingMode::Hair;
   const Scene hair(feather, so);
   so.mode = ShadingMode::Substructure;
@@ -95,7 +64,7 @@ int run_compare(const Options& o) {
     return 0;
   }
   if (o.columns < 1) throw Error("--columns must be at least 1");
-  const std::vector<int> leds = parse_light_selection(o.lights, int(rig.leds.size()));
+  const std::vector<int> leds = parse_light_selection(view.lights, int(rig.leds.size()));
   if (leds.empty()) throw Error("--light-sequence with --lights none: no LED to switch on");
   for (const auto& [scene, name] : modes) {
     std::vector<Panel> tiles;
@@ -116,7 +85,8 @@ const Registration kCompare{
     [](CLI::App& sub) {
       auto o = std::make_shared<Options>();
       sub.footer(
-          "Both panels share the camera (auto-framed top view), lights, samples, seed and exposure.\n"
+          "Both panels share the camera (auto-framed top view unless --camera-pos), lights, samples, seed\n"
+          "and exposure; --cull leaves out the curves neither panel can show (docs/skip-work.md).\n"
           "Example: plumage compare feather.fcurves --photo feather.jpg -o side_by_side.png --spp 64\n"
           "         plumage compare feather.fcurves --light-sequence --resolution 160x240 -o seq.png\n"
           "See docs/substructure.md.");
@@ -124,18 +94,8 @@ const Registration kCompare{
       sub.add_option("-o,--output", o->output, "Output image (.png sRGB or .exr linear); with --light-sequence, "
                                                "NAME_hair.png and NAME_substructure.png")->required();
       sub.add_option("--photo", o->photo, "Photograph of the feather, shown first (scaled to the panel height)");
-      sub.add_option("--spp", o->spp, "Samples per pixel")->capture_default_str();
-      sub.add_flag("--adaptive", o->adaptive, "Adaptive sampling: a pixel stops once converged (--spp is the cap; docs/skip-work.md)");
-      sub.add_option("--target-error", o->target_error, "With --adaptive: relative standard error of a pixel's mean at which it stops")->capture_default_str();
-      sub.add_option("--min-spp", o->min_spp, "With --adaptive: samples every pixel takes before it may stop")->capture_default_str();
-      sub.add_option("--resolution", o->resolution, "Size of one panel WIDTHxHEIGHT")->capture_default_str();
-      sub.add_option("--seed", o->seed, "Random seed")->capture_default_str();
-      sub.add_option("--max-depth", o->max_depth, "Maximum scattering events per path")->capture_default_str();
-      sub.add_option("--exposure", o->exposure, "Exposure in stops, the same for every panel")->capture_default_str();
-      sub.add_option("--lights", o->lights, "Dome LEDs that are on (with --light-sequence: the LEDs to step through)")->capture_default_str();
-      sub.add_option("--rig", o->rig, "Light rig JSON file")->capture_default_str();
-      sub.add_option("--backdrop", o->backdrop, "Card under the feather: white, black or none")->capture_default_str();
-      sub.add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
+      o->view.add_to(sub, "Size of one panel WIDTHxHEIGHT",
+                     "Dome LEDs that are on (with --light-sequence: the LEDs to step through)");
       sub.add_flag("--light-sequence", o->light_sequence, "One LED at a time: a labelled contact sheet per shading mode");
       sub.add_option("--columns", o->columns, "Contact sheet tiles per row")->capture_default_str();
       o->substructure.add_to(sub);

@@ -156,21 +156,26 @@ TEST(PanelLayout, ContactSheetGrid) {
 namespace {
 using CliRun = test::CliStreams;
 CliRun run_cli(const std::string& args) { return test::plumage_cli_streams("-q " + args); }
-}  // namespace
 
-TEST(CompareCli, WritesSideBySideAndLightSequenceAndRejectsBadInput) {
-  const fs::path dir = fs::temp_directory_path() / ("plumage_compare_cli_test_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  Feather f = test::make_test_feather(12.0f, 1.0f, 0.05f);
+// The test feather with substructure parameters, so both shading modes can render it.
+Feather feather_with_substructure(float length) {
+  Feather f = test::make_test_feather(length, 1.0f, 0.05f);
   SubstructureParams p;
   p.barbules_per_side = 40;
   p.ramus_radius = 0.04f;
   p.barbule_radius = 0.01f;
   p.ribbon_width = 0.3f;
   f.left = f.right = p;
+  return f;
+}
+}  // namespace
+
+TEST(CompareCli, WritesSideBySideAndLightSequenceAndRejectsBadInput) {
+  const fs::path dir = fs::temp_directory_path() / ("plumage_compare_cli_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
   const std::string in = (dir / "f.fcurves").string();
-  write_fcurves(in, f);
+  write_fcurves(in, feather_with_substructure(12.0f));
   write_image(dir / "photo.png", Image(40, 80, 3, 0.3f));
 
   CliRun r = run_cli("compare " + in + " --photo " + (dir / "photo.png").string() + " -o " +
@@ -202,4 +207,48 @@ TEST(CompareCli, WritesSideBySideAndLightSequenceAndRejectsBadInput) {
               (dir / "aov.png").string() + " --barbules 20 --ramus-radius 0.05");
   EXPECT_EQ(r.rc, 0) << r.err;
   EXPECT_TRUE(fs::exists(dir / "aov.png"));
+}
+
+namespace {
+// The number `--stats` prints after `name` (the value ends the line), or -1.
+double stat_value(const std::string& out, const std::string& name) {
+  const auto at = out.find("    " + name + " ");
+  if (at == std::string::npos) return -1;
+  const auto end = out.find('\n', at);
+  return std::stod(out.substr(out.find_last_of(' ', end) + 1, end - out.find_last_of(' ', end) - 1));
+}
+}  // namespace
+
+// `compare --cull` goes through the same view path as `render --cull`: a zoomed
+// view over the vane leaves curves out of both scenes, and with direct light only
+// (the shadows it keeps are all there is) the panels look as they do without it.
+TEST(CompareCli, CullLeavesOutWhatAZoomedViewCannotShow) {
+  const fs::path dir = fs::temp_directory_path() / ("plumage_compare_cull_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string in = (dir / "f.fcurves").string();
+  write_fcurves(in, feather_with_substructure(40.0f));
+  const std::string args = "--stats compare " + in +
+                           " --camera-pos 3,12,4 --look-at 3,12,0 --max-depth 1 --spp 2 --resolution 12x12 -o ";
+  const std::string culled_name = "Curves culled (outside the view and its shadow reach)";
+
+  CliRun r = run_cli(args + (dir / "all.exr").string());
+  ASSERT_EQ(r.rc, 0) << r.err;
+  EXPECT_EQ(stat_value(r.err, culled_name), 0) << r.err;
+  r = run_cli(args + (dir / "culled.exr").string() + " --cull");
+  ASSERT_EQ(r.rc, 0) << r.err;
+  const double culled = stat_value(r.err, culled_name);
+  EXPECT_GT(culled, 0) << r.err;
+
+  const Image all = read_image(dir / "all.exr"), part = read_image(dir / "culled.exr");
+  ASSERT_EQ(all.pixels.size(), part.pixels.size());
+  double diff = 0, sum = 0;
+  for (std::size_t i = 0; i < all.pixels.size(); ++i) {
+    diff += std::abs(all.pixels[i] - part.pixels[i]);
+    sum += all.pixels[i];
+  }
+  ASSERT_GT(sum, 0);
+  std::printf("compare --cull: %.0f curves culled, relative difference %.2g\n", culled, diff / sum);
+  EXPECT_LT(diff / sum, 1e-3);
+  fs::remove_all(dir);
 }

@@ -1,18 +1,31 @@
 #include "plumage/renderer/feather_render.h"
 
+#include "plumage/common/error.h"
 #include "plumage/renderer/render.h"
 
 namespace plumage {
 
-Image render_view(const Scene& scene, const DomeRig& rig, const ViewSpec& view) {
-  const AxisBox& fb = scene.feather_bounds();
+LightSet view_lights(const AxisBox& fb, const DomeRig& rig, const ViewSpec& view) {
   LightSet lights;
-  // The rig sits on the feather's lowest point, as in `plumage render`.
   for (const SphereLight& l : dome_lights(rig, parse_light_selection(view.lights, int(rig.leds.size())),
                                           {fb.centre().x, fb.centre().y, fb.lo.z}))
     lights.add(l);
+  if (view.environment) lights.set_environment(*view.environment);
+  for (const DirectionalLight& d : view.directional) lights.add(d);
+  return lights;
+}
+
+Image render_view(const Scene& scene, const DomeRig& rig, const ViewSpec& view) {
+  const AxisBox& fb = scene.feather_bounds();
+  const LightSet lights = view_lights(fb, rig, view);
   validate(view.hair, "--beta-m/--beta-n/--alpha/--eta");
-  const FibreMaterial material(view.hair, AlbedoMap(scene.feather().albedo, view.base_dir));
+  const FibreMaterial material = [&] {
+    if (!view.sigma_a) return FibreMaterial(view.hair, AlbedoMap(scene.feather().albedo, view.base_dir));
+    HairParams hp = view.hair;
+    hp.sigma_a = *view.sigma_a;
+    return FibreMaterial(hp);
+  }();
+  if (view.max_depth < 0) throw Error("--max-depth must be 0 or more");
   IntegratorSettings is;
   is.max_depth = view.max_depth;
   const PathIntegrator integrator(scene, lights, material, is);
@@ -20,6 +33,7 @@ Image render_view(const Scene& scene, const DomeRig& rig, const ViewSpec& view) 
   RenderSettings rs;
   rs.spp = view.spp;
   rs.seed = view.seed;
+  rs.sampler = view.sampler;
   rs.threads = view.threads;
   rs.progress = view.progress;
   rs.adaptive = view.adaptive;

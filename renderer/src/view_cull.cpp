@@ -58,13 +58,9 @@ CurveKeep view_cull(const Camera& camera, const LightSet& lights, const AxisBox&
 
 SceneCull view_cull_for(const ViewSpec& view, const DomeRig& rig, float margin) {
   return [view, rig, margin](const AxisBox& fb, float floor_z) {
-    // As render_view() places them.
-    LightSet lights;
-    for (const SphereLight& l : dome_lights(rig, parse_light_selection(view.lights, int(rig.leds.size())),
-                                            {fb.centre().x, fb.centre().y, fb.lo.z}))
-      lights.add(l);
+    // The camera and the lights render_view() will use.
     const Camera camera(view.camera, view.width, view.height, fb);
-    return view_cull(camera, lights, fb, floor_z, margin);
+    return view_cull(camera, view_lights(fb, rig, view), fb, floor_z, margin);
   };
 }
 

@@ -1,16 +1,20 @@
 #pragma once
-// One call from a feather to a developed image, for the drivers that render the
-// same feather several times with identical settings (`plumage compare`, its
-// golden test and the substructure benchmark): the dome rig's selected LEDs, the
-// auto-framed camera, the feather's albedo, a backdrop card.
+// One call from a feather to a developed image: the path every driver renders
+// through (`plumage render`, `plumage compare`, their golden tests and the
+// benchmarks): the dome rig's selected LEDs plus any environment and directional
+// lights, the camera, the feather's albedo (or a given absorption), a backdrop card.
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "plumage/common/image.h"
 #include "plumage/renderer/camera.h"
 #include "plumage/renderer/dome_rig.h"
 #include "plumage/renderer/hair_bcsdf.h"
+#include "plumage/renderer/light_set.h"
+#include "plumage/renderer/sampler.h"
 #include "plumage/renderer/scene.h"
 
 namespace plumage {
@@ -19,11 +23,15 @@ struct ViewSpec {
   int width = 320, height = 480;
   int spp = 16;
   std::uint64_t seed = 0;
+  SamplerKind sampler = SamplerKind::Sobol;
   int max_depth = 16;
   float exposure = 0;            // stops
   std::string lights = "all";    // dome LEDs that are on (parse_light_selection)
+  std::optional<EnvironmentLight> environment;  // added to the LEDs
+  std::vector<DirectionalLight> directional;    // added to the LEDs
   CameraSpec camera;
-  HairParams hair;               // sigma_a comes from the feather's albedo
+  HairParams hair;               // sigma_a comes from the feather's albedo ...
+  std::optional<glm::vec3> sigma_a;  // ... unless it is given here
   std::filesystem::path base_dir = ".";  // the curve file's folder (albedo texture paths)
   int threads = 0;
   bool progress = false;
@@ -31,6 +39,11 @@ struct ViewSpec {
   float target_error = 0.02f;
   int min_spp = 16;
 };
+
+// The lights of `view`: the rig's selected LEDs, the rig standing on the
+// feather's lowest point (as in the photographs), then the view's environment
+// and directional lights. Throws plumage::Error for a bad LED selection.
+LightSet view_lights(const AxisBox& feather_bounds, const DomeRig& rig, const ViewSpec& view);
 
 // Renders `scene` under `rig` as `view` says and returns the image scaled by
 // 2^exposure. Throws plumage::Error for bad settings (see render(), Camera).

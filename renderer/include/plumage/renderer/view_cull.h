@@ -20,7 +20,8 @@ namespace plumage {
 CurveKeep view_cull(const Camera& camera, const LightSet& lights, const AxisBox& feather_bounds, float floor_z,
                     float margin = 0.1f);
 
-// SceneOptions::cull for the view render_view() will draw: the same camera and LEDs.
+// SceneOptions::cull for the view render_view() will draw: the same camera and
+// lights (view_lights(); an environment or a directional light keeps every curve).
 SceneCull view_cull_for(const ViewSpec& view, const DomeRig& rig, float margin = 0.1f);
 
 }  // namespace plumage

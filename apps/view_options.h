@@ -1,0 +1,136 @@
+#pragma once
+// The options `plumage render` and `plumage compare` share: image size, camera,
+// sampling, the dome rig and its LEDs, exposure, backdrop and view culling. They
+// become one ViewSpec and SceneOptions, so both commands render through
+// render_view() (renderer/feather_render.h) the same way.
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "plumage/common/error.h"
+#include "plumage/renderer/feather_render.h"
+#include "plumage/renderer/view_cull.h"
+
+namespace plumage::cli {
+
+// "1,2,3" -> numbers; `flag` names the option in the error.
+inline std::vector<float> parse_numbers(const std::string& text, const std::string& flag) {
+  std::vector<float> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    std::size_t used = 0;
+    float v = 0;
+    try {
+      v = std::stof(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || !std::isfinite(v))
+      throw Error(flag + ": '" + item + "' is not a number");
+    out.push_back(v);
+  }
+  return out;
+}
+
+inline glm::vec3 parse_vec3(const std::string& text, const std::string& flag) {
+  const auto v = parse_numbers(text, flag);
+  if (v.size() != 3) throw Error(flag + " takes three comma-separated numbers, e.g. 0,0,100");
+  return {v[0], v[1], v[2]};
+}
+
+struct ViewOptions {
+  std::string resolution;
+  int spp = 16;
+  bool adaptive = false;
+  float target_error = 0.02f;
+  int min_spp = 16;
+  bool cull = false;
+  std::uint64_t seed = 0;
+  int max_depth = 16;
+  float exposure = 0;
+  std::string lights = "all";
+  std::string rig = std::string(PLUMAGE_DATA_DIR) + "/rigs/dome25.json";
+  std::string backdrop = "white";
+  int threads = 0;
+  std::string projection = "perspective";
+  std::string camera_pos, look_at, up = "0,1,0";
+  float fov = 30;
+  float margin = 0.05f;
+
+  std::string resolution_form;  // what --resolution wants, for its error message
+
+  ViewOptions(std::string default_resolution, std::string form)
+      : resolution(std::move(default_resolution)), resolution_form(std::move(form)) {}
+
+  // `resolution_help` and `lights_help` say what the size and the LEDs mean for the command.
+  void add_to(CLI::App& app, const std::string& resolution_help, const std::string& lights_help) {
+    app.add_option("--resolution", resolution, resolution_help)->capture_default_str();
+    app.add_option("--spp", spp, "Samples per pixel (a power of two suits the Sobol sampler)")->capture_default_str();
+    app.add_flag("--adaptive", adaptive, "Adaptive sampling: a pixel stops once converged (--spp is the cap; docs/skip-work.md)");
+    app.add_option("--target-error", target_error, "With --adaptive: relative standard error of a pixel's mean at which it stops")->capture_default_str();
+    app.add_option("--min-spp", min_spp, "With --adaptive: samples every pixel takes before it may stop")->capture_default_str();
+    app.add_flag("--cull", cull, "Leave out of the BVH curves that can neither be seen nor shadow what is seen (docs/skip-work.md)");
+    app.add_option("--seed", seed, "Random seed; the same seed gives the same image at any --threads")->capture_default_str();
+    app.add_option("--max-depth", max_depth, "Maximum scattering events per path (1 = direct light only)")->capture_default_str();
+    app.add_option("--exposure", exposure, "Exposure in stops: pixels are scaled by 2^exposure")->capture_default_str();
+    app.add_option("--lights", lights, lights_help)->capture_default_str();
+    app.add_option("--rig", rig, "Light rig JSON file")->capture_default_str();
+    app.add_option("--backdrop", backdrop, "Card under the feather: white (albedo 0.8), black (0.03) or none")->capture_default_str();
+    app.add_option("--threads", threads, "Worker threads (0 = all cores)")->capture_default_str();
+    app.add_option("--projection", projection, "perspective or orthographic")->capture_default_str();
+    app.add_option("--camera-pos", camera_pos, "Camera position X,Y,Z in mm (default: auto-framed top view)");
+    app.add_option("--look-at", look_at, "Point the camera looks at (default: the feather's centre)");
+    app.add_option("--up", up, "Camera up vector")->capture_default_str();
+    app.add_option("--fov", fov, "Vertical field of view in degrees (perspective)")->capture_default_str();
+    app.add_option("--margin", margin, "Auto-framing: fraction of the view left around the feather")->capture_default_str();
+  }
+
+  // Everything but the lights beyond the LEDs and the material, which the command adds.
+  ViewSpec view_spec(const std::filesystem::path& curve_file, bool progress) const {
+    ViewSpec v;
+    char x = 0;
+    std::stringstream ss(resolution);
+    if (!(ss >> v.width >> x >> v.height) || x != 'x' || !ss.eof())
+      throw Error("--resolution '" + resolution + "': give " + resolution_form);
+    v.spp = spp;
+    v.adaptive = adaptive;
+    v.target_error = target_error;
+    v.min_spp = min_spp;
+    v.seed = seed;
+    if (max_depth < 0) throw Error("--max-depth must be 0 or more");
+    v.max_depth = max_depth;
+    v.exposure = exposure;
+    v.lights = lights;
+    v.threads = threads;
+    v.progress = progress;
+    v.base_dir = curve_file.parent_path();
+    if (projection == "perspective") v.camera.projection = Projection::Perspective;
+    else if (projection == "orthographic") v.camera.projection = Projection::Orthographic;
+    else throw Error("--projection '" + projection + "': use perspective or orthographic");
+    if (!camera_pos.empty()) v.camera.position = parse_vec3(camera_pos, "--camera-pos");
+    if (!look_at.empty()) v.camera.look_at = parse_vec3(look_at, "--look-at");
+    v.camera.up = parse_vec3(up, "--up");
+    v.camera.fov_deg = fov;
+    v.camera.margin = margin;
+    return v;
+  }
+
+  // The backdrop, and with --cull the culling for `view` under `rig` (its lights complete).
+  SceneOptions scene_options(const ViewSpec& view, const DomeRig& dome) const {
+    SceneOptions so;
+    if (backdrop == "white") so.backdrop = {true, glm::vec3(0.8f)};
+    else if (backdrop == "black") so.backdrop = {true, glm::vec3(0.03f)};
+    else if (backdrop != "none") throw Error("--backdrop '" + backdrop + "': use white, black or none");
+    if (cull) so.cull = view_cull_for(view, dome);
+    return so;
+  }
+};
+
+}  // namespace plumage::cli
