@@ -34,13 +34,18 @@ run full_one "$led" --resolution 48x72
 run full_all all --resolution 48x72
 
 # The picture: the zoomed view in each mode (perspective top view of about the same
-# area; 128x128, 256 spp), side by side.
+# area; 128x128, 256 spp), side by side: all LEDs over white paper on top, the single
+# LED over black card (+2 stops) below.
 "$plumage" -q generate --preset "$preset" -o "$out/feather.fcurves"
 IFS=, read -r zx zy zh <<<"$zoom"
 height=$(awk -v h="$zh" 'BEGIN { print h / (2 * sin(15 * atan2(0, -1) / 180) / cos(15 * atan2(0, -1) / 180)) }')
 for mode in explicit substructure hair; do
   "$plumage" -q render "$out/feather.fcurves" --shading "$mode" --spp 256 --resolution 128x128 \
     --camera-pos "$zx,$zy,$height" --look-at "$zx,$zy,0" -o "$out/crop_$mode.png"
+  "$plumage" -q render "$out/feather.fcurves" --shading "$mode" --spp 256 --resolution 128x128 \
+    --lights "$led" --backdrop black --exposure 2 --camera-pos "$zx,$zy,$height" --look-at "$zx,$zy,0" \
+    -o "$out/led_$mode.png"
 done
-oiiotool "$out/crop_explicit.png" "$out/crop_substructure.png" "$out/crop_hair.png" --mosaic:pad=4 3x1 -o "$out/crops.png"
+oiiotool "$out/crop_explicit.png" "$out/crop_substructure.png" "$out/crop_hair.png" \
+  "$out/led_explicit.png" "$out/led_substructure.png" "$out/led_hair.png" --mosaic:pad=4 3x2 -o "$out/crops.png"
 echo "wrote $out/crops.png"
