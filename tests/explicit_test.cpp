@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "cli_run.h"
+#include "one_barb.h"
 #include "plumage/common/bspline.h"
 #include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
@@ -33,39 +34,14 @@ constexpr double kPi = std::numbers::pi;
 
 SubstructureParams params(int n, double theta_deg, double r_r, double r_b, double width, double phi_deg = 0,
                           double hooked = 0) {
-  SubstructureParams p;
-  p.barbules_per_side = n;
-  p.elevation_deg = float(theta_deg);
-  p.azimuth_deg = float(phi_deg);
-  p.ramus_radius = float(r_r);
-  p.barbule_radius = float(r_b);
-  p.ribbon_width = float(width);
-  p.hooked_fraction = float(hooked);
-  return p;
+  return test::substructure_params(n, theta_deg, r_r, r_b, width, phi_deg, hooked);
 }
+using test::down_at;
+using test::one_barb;
 
-// One straight barb along +X from x = -4 to 4 (control points), vane normal +Z.
-// Its curve starts at x0 = -4 + 8/7 (a uniform B-spline starts near its second
-// control point), so arc length s = x - x0.
-Feather one_barb(const SubstructureParams& p, VaneSide side = VaneSide::Right) {
-  Feather f;
-  Curve c;
-  c.kind = CurveKind::Barb;
-  c.side = side;
-  for (int i = 0; i < 8; ++i) c.points.push_back({{-4.0f + 8.0f * float(i) / 7.0f, 0, 0}, 0.05f, {0, 0, 1}});
-  f.curves.push_back(c);
-  f.left = f.right = p;
-  return f;
-}
+// test::one_barb's curve starts at x0 and is kLength long.
 constexpr double kX0 = -4.0 + 8.0 / 7.0;
 constexpr double kLength = 8.0 * 5.0 / 7.0;
-
-Ray down_at(double x, double y) {
-  Ray r;
-  r.o = {float(x), float(y), 10};
-  r.d = {0, 0, -1};
-  return r;
-}
 
 double angle_deg(const glm::dvec3& a, const glm::dvec3& b) {
   return std::acos(std::clamp(glm::dot(glm::normalize(a), glm::normalize(b)), -1.0, 1.0)) * 180 / kPi;
