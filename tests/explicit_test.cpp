@@ -268,10 +268,11 @@ TEST(ExplicitGeometry, CurveCountsAndBytes) {
 // N = 0, r_b = 0, theta_b at its minimum and at 90°, hooked fraction 0 and 1: finite
 // control points, a scene that builds, and finite round-fibre frames at every hit.
 TEST(ExplicitScene, DegenerateParametersGiveNoNaN) {
+  const double min_theta = BarbSubstructure::kMinElevationDeg;
   for (const SubstructureParams& p :
-       {params(0, 45, 0.04, 0.01, 0.4), params(40, 45, 0.04, 0, 0.4), params(40, BarbSubstructure::kMinElevationDeg, 0.04, 0.01, 0.4, 10, 0.3),
-        params(40, 90, 0.04, 0.01, 0.4, 89.9, 1), params(40, 45, 0.04, 0.01, 0.4, -30, 1), params(40, 45, 0.2, 0.01, 0.4, 0, 0.5),
-        params(1, 45, 0.04, 0.3, 0.4, 0, 1)}) {
+       {params(0, 45, 0.04, 0.01, 0.4), params(40, 45, 0.04, 0, 0.4), params(40, min_theta, 0.04, 0.01, 0.4, 10, 0.3),
+        params(40, 90, 0.04, 0.01, 0.4, 89.9, 1), params(40, 45, 0.04, 0.01, 0.4, -30, 1),
+        params(40, 45, 0.2, 0.01, 0.4, 0, 0.5), params(1, 45, 0.04, 0.3, 0.4, 0, 1)}) {
     const Feather f = one_barb(p);
     ExplicitBarbs ex;
     add_explicit_barb(f.curves[0], 0, BarbSubstructure(p, VaneSide::Right), ex);
@@ -334,7 +335,7 @@ TEST(ExplicitCli, RenderWithStatsAndStructureAov) {
   Feather f = test::make_test_feather(12.0f, 1.0f);
   f.left = f.right = params(20, 45, 0.04, 0.008, 0.4, 10, 0.3);
   write_fcurves(dir + "/f.fcurves", f);
-  auto r = test::plumage_cli("-q --stats render " + dir + "/f.fcurves --shading explicit --spp 1 --resolution 32x32 --stats -o " +
+  auto r = test::plumage_cli("-q --stats render " + dir + "/f.fcurves --shading explicit --spp 1 --resolution 32x32 -o " +
                              dir + "/e.png");
   ASSERT_EQ(r.rc, 0) << r.output;
   EXPECT_TRUE(std::filesystem::exists(dir + "/e.png"));

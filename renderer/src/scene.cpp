@@ -376,7 +376,8 @@ CurvePoint Scene::curve_point(const SurfaceHit& hit) const {
 // ribbons with, and per segment a table of arc length s at evenly spaced u.
 void Scene::make_vanes(const char* what) {
   for (VaneSide side : {VaneSide::Left, VaneSide::Right})
-    if (feather_.count(side) > 0) (side == VaneSide::Left ? left_ : right_).emplace(feather_.substructure(side), side, what);
+    if (feather_.count(side) > 0)
+      (side == VaneSide::Left ? left_ : right_).emplace(feather_.substructure(side), side, what);
   for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci) {
     const Curve& c = feather_.curves[ci];
     if (c.kind == CurveKind::Barb && keep_[ci] && c.side == VaneSide::None)
@@ -455,7 +456,8 @@ void Scene::build_explicit() {
   make_vanes("--shading explicit");
   ExplicitBarbs ex;
   for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci)
-    if (feather_.curves[ci].kind == CurveKind::Barb && keep_[ci]) add_explicit_barb(feather_.curves[ci], ci, vane_of(ci), ex);
+    if (feather_.curves[ci].kind == CurveKind::Barb && keep_[ci])
+      add_explicit_barb(feather_.curves[ci], ci, vane_of(ci), ex);
   explicit_bytes_ = ex.bytes();
   g_explicit_curves += std::int64_t(ex.fibres.size());
   g_explicit_segments += std::int64_t(ex.segments());

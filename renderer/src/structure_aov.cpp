@@ -31,7 +31,8 @@ Image render_structure_aov(const Scene& scene, const Camera& camera, int n) {
           // Gaps kept: the AOV shows where the ribbon is empty, not what lies behind it.
           if (!scene.intersect(ray, hit, true) || hit.kind == HitKind::Backdrop) sum += kBackgroundColour;
           else if (hit.kind == HitKind::Shaft) sum += kShaftColour;
-          else if (scene.options().mode == ShadingMode::Explicit) sum += structure_colour(scene.explicit_fibre(hit).structure);
+          else if (scene.options().mode == ShadingMode::Explicit)
+            sum += structure_colour(scene.explicit_fibre(hit).structure);
           else sum += structure_colour(scene.structure_at(hit).hit.structure);
         }
       img.set_rgb(x, y, sum / float(n * n));
