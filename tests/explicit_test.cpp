@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <random>
 #include <string>
@@ -348,5 +349,30 @@ TEST(ExplicitCli, RenderWithStatsAndStructureAov) {
   EXPECT_NE(r.rc, 0);
   EXPECT_NE(r.output.find("--barbule-elevation"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir + "/bad.png"));
+  std::filesystem::remove_all(dir);
+}
+
+// `plumage bench --reference-mode explicit`: every mode against one explicit
+// reference, no slope check (errors level off at the model error by design).
+TEST(ExplicitCli, BenchAgainstTheExplicitReference) {
+  const std::string dir = temp_dir("plumage_explicit_bench");
+  Feather f = test::make_test_feather(12.0f, 1.0f);
+  f.left = f.right = params(20, 45, 0.04, 0.008, 0.4, 10, 0.3);
+  write_fcurves(dir + "/f.fcurves", f);
+  const std::string common = "bench --quiet " + dir + "/f.fcurves --resolution 8x12 --spp 1,2 --reference-spp 8 " +
+                             "--modes hair,substructure --csv " + dir + "/l.csv --plot " + dir + "/l.png";
+  auto r = test::plumage_cli(common + " --reference-mode explicit --zoom 3,6,2");
+  ASSERT_EQ(r.rc, 0) << r.output;
+  std::ifstream csv(dir + "/l.csv");
+  std::string line;
+  int rows = 0;
+  while (std::getline(csv, line)) rows += line.rfind("hair,", 0) == 0 || line.rfind("substructure,", 0) == 0;
+  EXPECT_EQ(rows, 4);
+  r = test::plumage_cli(common + " --reference-mode explicit --zoom 3,6");
+  EXPECT_NE(r.rc, 0);
+  EXPECT_NE(r.output.find("--zoom '3,6'"), std::string::npos) << r.output;
+  r = test::plumage_cli(common + " --reference-mode explict");
+  EXPECT_NE(r.rc, 0);
+  EXPECT_NE(r.output.find("unknown shading mode"), std::string::npos) << r.output;
   std::filesystem::remove_all(dir);
 }
