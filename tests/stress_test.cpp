@@ -279,8 +279,8 @@ Feather with_substructure(Feather f) {
 // so it gets the curves' own radii only without substructure parameters.
 Feather for_mode(const Feather& f, ShadingMode m) { return m == ShadingMode::Hair ? f : with_substructure(f); }
 
-const char* name(ShadingMode m) { return m == ShadingMode::Hair ? "hair" : "substructure"; }
-constexpr ShadingMode kModes[] = {ShadingMode::Hair, ShadingMode::Substructure};
+const char* name(ShadingMode m) { return to_string(m); }
+constexpr ShadingMode kModes[] = {ShadingMode::Hair, ShadingMode::Substructure, ShadingMode::Explicit};
 
 // A feather whose every curve is moved by `offset`.
 Feather moved(Feather f, const glm::vec3& offset) {
@@ -424,8 +424,12 @@ TEST(StressRender, LitFibreFarFromTheOriginHasNoAcne) {
 TEST(StressRender, FeatherFarFromTheOriginLooksTheSame) {
   // Multiple bounces among neighbouring barbs, 10^5 mm out.
   const Feather f = test::make_test_feather(20.0f, 0.5f, 0.08f);
-  const glm::vec3 c(0, 10, 0), off(1e5f, -1e5f, 0);
+  const glm::vec3 c(0, 10, 0);
   for (ShadingMode mode : kModes) {
+    // Explicit barbules are round curves 10 um thick stored in float: 10^5 mm out a
+    // float step is 7.8 um and they cannot be drawn (measured: 14 % brighter); at
+    // 10^3 mm it is 0.06 um. docs/rendering.md states the limit.
+    const glm::vec3 off = mode == ShadingMode::Explicit ? glm::vec3(1e3f, -1e3f, 0) : glm::vec3(1e5f, -1e5f, 0);
     const Feather g = for_mode(f, mode);
     const Shot near = shoot(g, c, 22.0f, 32, 16, 4, false, mode);
     const Shot far = shoot(moved(g, off), c + off, 22.0f, 32, 16, 4, false, mode);

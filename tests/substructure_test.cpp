@@ -16,6 +16,7 @@
 #include "plumage/renderer/render.h"
 #include "plumage/renderer/scene.h"
 #include "plumage/renderer/substructure.h"
+#include "one_barb.h"
 #include "render_test_feather.h"
 
 using namespace plumage;
@@ -26,16 +27,10 @@ constexpr double kPi = std::numbers::pi;
 
 SubstructureParams params(int n, double theta_deg, double r_r, double r_b, double width, double phi_deg = 0,
                           double hooked = 0.3) {
-  SubstructureParams p;
-  p.barbules_per_side = n;
-  p.elevation_deg = float(theta_deg);
-  p.azimuth_deg = float(phi_deg);
-  p.ramus_radius = float(r_r);
-  p.barbule_radius = float(r_b);
-  p.ribbon_width = float(width);
-  p.hooked_fraction = float(hooked);
-  return p;
+  return test::substructure_params(n, theta_deg, r_r, r_b, width, phi_deg, hooked);
 }
+using test::down_at;
+using test::one_barb;
 
 // The explicit shapes of DESIGN §5 drawn as geometry, without G_b's periodic
 // arithmetic: the ramus is the band |w| <= r_r; barbule k on side sigma is a
@@ -84,25 +79,6 @@ void expect_orthonormal_right_handed(const Frame& f, const std::string& what) {
   EXPECT_NEAR(glm::dot(f.t, f.n), 0.0f, 1e-5f) << what;
   EXPECT_NEAR(glm::dot(f.b, f.n), 0.0f, 1e-5f) << what;
   EXPECT_NEAR(glm::dot(glm::cross(f.n, f.t), f.b), 1.0f, 1e-5f) << what << " (b = n x t)";
-}
-
-// A feather of one straight barb along +X, its vane normal +Z, over an optional backdrop.
-Feather one_barb(const SubstructureParams& p, VaneSide side = VaneSide::Right) {
-  Feather f;
-  Curve c;
-  c.kind = CurveKind::Barb;
-  c.side = side;
-  for (int i = 0; i < 8; ++i) c.points.push_back({{-4.0f + 8.0f * float(i) / 7.0f, 0, 0}, 0.05f, {0, 0, 1}});
-  f.curves.push_back(c);
-  f.left = f.right = p;
-  return f;
-}
-
-Ray down_at(float x, float y) {
-  Ray r;
-  r.o = {x, y, 10};
-  r.d = {0, 0, -1};
-  return r;
 }
 
 }  // namespace

@@ -129,16 +129,23 @@ std::vector<LadderPoint> run_ladder(const Feather& feather, const DomeRig& rig, 
     throw Error("--reference-spp " + std::to_string(spec.reference_spp) +
                 " is under 4x the top rung; the reference's own noise would flatten the ladder");
 
-  std::vector<LadderPoint> out;
-  for (ShadingMode mode : spec.modes) {
+  ViewSpec ref_view = view;
+  ref_view.spp = spec.reference_spp;
+  ref_view.seed = spec.reference_seed;
+  auto scene_options = [&](ShadingMode mode) {
     SceneOptions so;
     so.mode = mode;
     so.backdrop = spec.backdrop;
-    const Scene scene(feather, so);
-    ViewSpec ref_view = view;
-    ref_view.spp = spec.reference_spp;
-    ref_view.seed = spec.reference_seed;
-    const Image reference = render_view(scene, rig, ref_view);
+    return so;
+  };
+  std::optional<Image> shared_reference;
+  if (spec.reference_mode)
+    shared_reference = render_view(Scene(feather, scene_options(*spec.reference_mode)), rig, ref_view);
+
+  std::vector<LadderPoint> out;
+  for (ShadingMode mode : spec.modes) {
+    const Scene scene(feather, scene_options(mode));
+    const Image reference = shared_reference ? *shared_reference : render_view(scene, rig, ref_view);
     for (int n : spec.spp) {
       ViewSpec v = view;
       v.spp = n;

@@ -78,8 +78,10 @@ FibreFrame PathIntegrator::fibre_frame_at(const SurfaceHit& hit, const glm::vec3
     return structure_fibre_frame(ss.frame, ss.hit.h, wo);
   }
   const CurvePoint cp = scene_.curve_point(hit);
-  return hit.kind == HitKind::Barb ? flat_fibre_frame(cp.dp, wo, hit.v)
-                                   : round_fibre_frame(cp.dp, wo, cp.p, cp.radius, hit.p);
+  // Explicit mode's rami and barbules are round curves, shaded like the shaft.
+  return hit.kind == HitKind::Barb && scene_.options().mode != ShadingMode::Explicit
+             ? flat_fibre_frame(cp.dp, wo, hit.v)
+             : round_fibre_frame(cp.dp, wo, cp.p, cp.radius, hit.p);
 }
 
 PathIntegrator::PathIntegrator(const Scene& scene, const LightSet& lights, const FibreMaterial& material,

@@ -50,6 +50,9 @@ bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y
 StatCounter g_culled("Scene/Curves culled (outside the view and its shadow reach)");
 StatCounter g_structure_lookups("Substructure/Structure lookups at shading");
 StatCounter g_gap_rejections("Substructure/Candidate hits rejected in gaps");
+StatCounter g_explicit_curves("Explicit/Curves built (rami and barbules)");
+StatCounter g_explicit_segments("Explicit/Curve segments (Embree primitives)");
+StatCounter g_explicit_bytes("Explicit/Curve data (bytes, before Embree's BVH)");
 // Filter functions run deep inside Embree: they tally here and the query adds the
 // tally to the shared counter once, instead of one atomic add per rejection.
 thread_local std::int64_t t_gap_rejections = 0;
@@ -111,7 +114,7 @@ struct SceneFilter {
       if (geom != r.skip_geom || RTCRayN_tfar(args->ray, args->N, i) >= r.skip_until) continue;
       const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
       const Scene::CurveGeometry* g = self->scene->curve_geometry(geom);
-      const std::uint32_t id = g ? g->prims[prim].curve : prim;
+      const std::uint32_t id = g ? g->prims[prim].fibre : prim;
       if (id == r.skip_curve) args->valid[i] = 0;
     }
   }
@@ -187,9 +190,12 @@ Scene::Scene(const Feather& feather, const SceneOptions& options)
   if (options_.mode == ShadingMode::Substructure) build_substructure();
 
   add_curves(shaft_, CurveKind::Shaft, RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE);
-  add_curves(barbs_, CurveKind::Barb,
-             options_.mode == ShadingMode::Substructure ? RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE
-                                                        : RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE);
+  if (options_.mode == ShadingMode::Explicit)
+    build_explicit();
+  else
+    add_curves(barbs_, CurveKind::Barb,
+               options_.mode == ShadingMode::Substructure ? RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE
+                                                          : RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE);
   scene_bounds_ = bounds_;
   if (options_.backdrop.enabled) add_backdrop();
 
@@ -225,9 +231,13 @@ void Scene::add_curves(CurveGeometry& g, CurveKind kind, int rtc_type) {
     for (const ControlPoint& cp : c.points) g.vertices.emplace_back(cp.p, render_radius(c, cp));
     for (std::uint32_t s = 0; s + 3 < c.points.size(); ++s) {
       g.indices.push_back(first + s);
-      g.prims.push_back({ci, first + s});
+      g.prims.push_back({ci, first + s, ci});
     }
   }
+  commit_curves(g, rtc_type);
+}
+
+void Scene::commit_curves(CurveGeometry& g, int rtc_type) {
   if (g.indices.empty()) return;
   RTCGeometry geom = rtcNewGeometry(shared_device(), RTCGeometryType(rtc_type));
   // Shared buffers: Embree reads our vectors in place, so they must outlive the scene (they do).
@@ -305,7 +315,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit, bool keep_gaps) const {
   hit.prim = rh.hit.primID;
   if (const CurveGeometry* g = curve_geometry(hit.geom)) {
     hit.curve = g->prims[hit.prim].curve;
-    hit.kind = g == &barbs_ ? HitKind::Barb : HitKind::Shaft;
+    hit.kind = g == &shaft_ ? HitKind::Shaft : HitKind::Barb;
   } else {
     hit.curve = kNoId;
     hit.kind = HitKind::Backdrop;
@@ -353,7 +363,7 @@ Ray Scene::spawn(const SurfaceHit& from, const glm::vec3& d, float tmax) const {
     r.skip_curve = from.prim;
     r.skip_until = D + 4 * eps;
   } else {
-    r.skip_curve = from.curve;
+    r.skip_curve = curve_geometry(from.geom)->prims[from.prim].fibre;
     r.skip_until = D + 2.05f * curve_point(from).radius + 4 * eps;
   }
   return r;
@@ -375,17 +385,27 @@ CurvePoint Scene::curve_point(const SurfaceHit& hit) const {
 // Substructure mode: one BarbSubstructure per vane (validated here, so a bad
 // parameter fails before any ray is traced), the vane normals Embree orients the
 // ribbons with, and per segment a table of arc length s at evenly spaced u.
-void Scene::build_substructure() {
+void Scene::make_vanes(const char* what) {
   for (VaneSide side : {VaneSide::Left, VaneSide::Right})
     if (feather_.count(side) > 0)
-      (side == VaneSide::Left ? left_ : right_)
-          .emplace(feather_.substructure(side), side, "--shading substructure");
+      (side == VaneSide::Left ? left_ : right_).emplace(feather_.substructure(side), side, what);
+  for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci) {
+    const Curve& c = feather_.curves[ci];
+    if (c.kind == CurveKind::Barb && keep_[ci] && c.side == VaneSide::None)
+      throw Error("barb curve #" + std::to_string(ci) + " belongs to no vane; " + what +
+                  " needs 'left' or 'right' to tell distal from proximal");
+  }
+}
+
+const BarbSubstructure& Scene::vane_of(std::uint32_t curve) const {
+  return feather_.curves[curve].side == VaneSide::Right ? *right_ : *left_;
+}
+
+void Scene::build_substructure() {
+  make_vanes("--shading substructure");
   for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci) {
     const Curve& c = feather_.curves[ci];
     if (c.kind != CurveKind::Barb || !keep_[ci]) continue;
-    if (c.side == VaneSide::None)
-      throw Error("barb curve #" + std::to_string(ci) +
-                  " belongs to no vane; substructure shading needs 'left' or 'right' to tell distal from proximal");
     std::vector<glm::dvec3> pts;
     for (const ControlPoint& cp : c.points) {
       pts.emplace_back(cp.p);
@@ -395,8 +415,7 @@ void Scene::build_substructure() {
     const ArcLengthTable table(spline);
     const std::size_t segs = spline.num_segments();
     for (std::size_t seg = 0; seg < segs; ++seg) {
-      ribbon_segments_.push_back({c.side == VaneSide::Right ? &*right_ : &*left_, std::uint32_t(arc_s_.size()),
-                                  float(table.length())});
+      ribbon_segments_.push_back({&vane_of(ci), std::uint32_t(arc_s_.size()), float(table.length())});
       for (int j = 0; j <= kArcSamples; ++j)
         arc_s_.push_back(float(table.s_at((double(seg) + double(j) / kArcSamples) / double(segs))));
     }
@@ -440,6 +459,34 @@ StructureSample Scene::structure_at(const SurfaceHit& hit) const {
   ss.hit = rs.vane->classify(ss.s, ss.w, rs.length);
   ss.frame = rs.vane->frame(ss.barb, ss.hit, ss.w);
   return ss;
+}
+
+// Explicit mode: every kept barb's ramus and barbules as round B-spline curves in
+// one Embree geometry (no filters: there are no gaps to reject, only empty space).
+void Scene::build_explicit() {
+  make_vanes("--shading explicit");
+  ExplicitBarbs ex;
+  for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci)
+    if (feather_.curves[ci].kind == CurveKind::Barb && keep_[ci])
+      add_explicit_barb(feather_.curves[ci], ci, vane_of(ci), ex);
+  explicit_bytes_ = ex.bytes();
+  g_explicit_curves += std::int64_t(ex.fibres.size());
+  g_explicit_segments += std::int64_t(ex.segments());
+  g_explicit_bytes += std::int64_t(explicit_bytes_);
+  barbs_.vertices = std::move(ex.control_points);
+  for (std::uint32_t fi = 0; fi < ex.fibres.size(); ++fi) {
+    const ExplicitFibre& f = ex.fibres[fi];
+    for (std::uint32_t s = 0; s < f.segments(); ++s) {
+      barbs_.indices.push_back(f.first_cp + s);
+      barbs_.prims.push_back({f.barb, f.first_cp + s, fi});
+    }
+  }
+  explicit_fibres_ = std::move(ex.fibres);
+  commit_curves(barbs_, RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE);
+}
+
+const ExplicitFibre& Scene::explicit_fibre(const SurfaceHit& hit) const {
+  return explicit_fibres_[barbs_.prims[hit.prim].fibre];
 }
 
 }  // namespace plumage

@@ -17,8 +17,8 @@ glm::vec3 structure_colour(Structure s) {
 }
 
 Image render_structure_aov(const Scene& scene, const Camera& camera, int n) {
-  if (scene.options().mode != ShadingMode::Substructure)
-    throw Error("--aov structure shows rami and barbules: use it with --shading substructure");
+  if (scene.options().mode == ShadingMode::Hair)
+    throw Error("--aov structure shows rami and barbules: use it with --shading substructure or explicit");
   if (n < 1) throw Error("structure AOV: at least one ray per pixel");
   Image img(camera.width(), camera.height(), 3);
   tbb::parallel_for(0, camera.height(), [&](int y) {
@@ -31,6 +31,8 @@ Image render_structure_aov(const Scene& scene, const Camera& camera, int n) {
           // Gaps kept: the AOV shows where the ribbon is empty, not what lies behind it.
           if (!scene.intersect(ray, hit, true) || hit.kind == HitKind::Backdrop) sum += kBackgroundColour;
           else if (hit.kind == HitKind::Shaft) sum += kShaftColour;
+          else if (scene.options().mode == ShadingMode::Explicit)
+            sum += structure_colour(scene.explicit_fibre(hit).structure);
           else sum += structure_colour(scene.structure_at(hit).hit.structure);
         }
       img.set_rgb(x, y, sum / float(n * n));

@@ -5,6 +5,7 @@
 // so on log-log axes error against time falls with slope -0.5; a slope near 0
 // over the top of the ladder means the error has hit a floor (bias).
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,11 @@ struct LadderSpec {
   std::uint64_t reference_seed = 0x9e3779b97f4a7c15ull;  // never equal to the ladder's seed
   int repeats = 1;  // renders per rung; the fastest time counts (error from the first)
   BackdropSpec backdrop{true, glm::vec3(0.8f)};
+  // The accuracy study (docs/substructure.md, "Explicit reference"): when set, one
+  // reference rendered in this mode serves every mode, so a rung's error is its
+  // noise plus its mode's model error against that geometry. Such errors level off
+  // at the model error by design: biased_modes() says nothing about such a run.
+  std::optional<ShadingMode> reference_mode;
 };
 
 // Root mean square difference over all channels; throws plumage::Error when the
@@ -52,7 +58,8 @@ double upper_half_slope(const std::vector<LadderPoint>& points, const std::strin
 // as "MODE: slope S over spp A..B"; empty when every mode's error keeps falling.
 std::vector<std::string> biased_modes(const std::vector<LadderPoint>& points, double max_slope = -0.3);
 
-// Renders the references and the ladder. `view.seed` seeds the ladder; the
+// Renders the references (one per mode, or the one of spec.reference_mode) and the
+// ladder. `view.seed` seeds the ladder; the
 // reference uses spec.reference_seed (an error must be thrown if they are equal:
 // shared samples would hide the error being measured).
 std::vector<LadderPoint> run_ladder(const Feather& feather, const DomeRig& rig, const ViewSpec& view,

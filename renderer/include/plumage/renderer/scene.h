@@ -1,8 +1,9 @@
 #pragma once
 // The Embree scene of one feather (DESIGN §4): the shaft as a round B-spline
 // curve, the barbs as ray-facing flat B-spline ribbons (hair mode) or as
-// normal-oriented ribbons lying in the vane (substructure mode, DESIGN §5), and an
-// optional backdrop card under the feather. Keeps, per Embree primitive, the
+// normal-oriented ribbons lying in the vane (substructure mode, DESIGN §5) or as
+// their rami and barbules, real round curves (explicit mode, explicit_geometry.h),
+// and an optional backdrop card under the feather. Keeps, per Embree primitive, the
 // feather curve and segment it came from so a hit can be shaded.
 #include <cstdint>
 #include <functional>
@@ -13,6 +14,7 @@
 #include <glm/glm.hpp>
 
 #include "plumage/common/feather.h"
+#include "plumage/renderer/explicit_geometry.h"
 #include "plumage/renderer/ray.h"
 #include "plumage/renderer/shading_mode.h"
 #include "plumage/renderer/substructure.h"
@@ -48,7 +50,7 @@ struct SurfaceHit {
   float u = 0, v = 0;          // Embree's hit coordinates (curves: u within the segment)
   std::uint32_t geom = kNoId;
   std::uint32_t prim = kNoId;
-  std::uint32_t curve = kNoId; // index into Feather::curves (fibres only)
+  std::uint32_t curve = kNoId; // index into Feather::curves (fibres only; explicit mode: the barb)
 };
 
 // The centreline of a curve segment at local u: position, unnormalised tangent, radius.
@@ -93,6 +95,11 @@ class Scene {
   CurvePoint curve_point(const SurfaceHit& hit) const;
   // Substructure mode, a barb hit: its ribbon coordinates, structure and frames.
   StructureSample structure_at(const SurfaceHit& hit) const;
+  // Explicit mode, a barb hit: the ramus or barbule curve it landed on.
+  const ExplicitFibre& explicit_fibre(const SurfaceHit& hit) const;
+  // Explicit mode: the curves built (rami and barbules) and the bytes of their data.
+  std::size_t explicit_curves() const { return explicit_fibres_.size(); }
+  std::size_t explicit_bytes() const { return explicit_bytes_; }
   const Feather& feather() const { return feather_; }
   const SceneOptions& options() const { return options_; }
   // Bounds of the feather's curves including radii (the backdrop is left out).
@@ -110,6 +117,7 @@ class Scene {
   struct Primitive {
     std::uint32_t curve;     // feather curve
     std::uint32_t first_cp;  // index of the segment's first control point in the geometry's vertices
+    std::uint32_t fibre;     // the Embree curve it is a segment of (= curve, but for explicit barbules)
   };
   struct CurveGeometry {
     std::uint32_t id = kNoId;
@@ -129,7 +137,12 @@ class Scene {
   static constexpr int kArcSamples = 8;  // per segment; linear in between
 
   void add_curves(CurveGeometry& g, CurveKind kind, int rtc_type);
+  void commit_curves(CurveGeometry& g, int rtc_type);
+  // One BarbSubstructure per vane that has barbs, validated (`what` names the mode).
+  void make_vanes(const char* what);
+  const BarbSubstructure& vane_of(std::uint32_t curve) const;
   void build_substructure();
+  void build_explicit();
   // s and w of a point on a barb ribbon; the barb's frame too when `full_frame`.
   StructureSample ribbon_point(std::uint32_t prim, float u, const glm::vec3& p, bool full_frame) const;
   void add_backdrop();
@@ -151,6 +164,8 @@ class Scene {
   std::vector<RibbonSegment> ribbon_segments_;
   std::vector<float> arc_s_;
   std::vector<glm::vec3> barb_normals_;
+  std::vector<ExplicitFibre> explicit_fibres_;  // explicit mode; control points live in barbs_
+  std::size_t explicit_bytes_ = 0;
   std::vector<char> keep_;  // per feather curve: in the BVH
   std::size_t culled_ = 0;
 };

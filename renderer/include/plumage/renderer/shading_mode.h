@@ -3,14 +3,16 @@
 //   Hair:         each barb is a ray-facing flat ribbon shaded as one hair fibre.
 //   Substructure: each barb is a normal-oriented ribbon in the vane whose (u, v)
 //                 locate rami and barbules (substructure.h; docs/substructure.md).
+//   Explicit:     rami and barbules as real round curves (explicit_geometry.h), the
+//                 reference the substructure technique is measured against.
 #include <string>
 
 namespace plumage {
 
-enum class ShadingMode { Hair, Substructure };
+enum class ShadingMode { Hair, Substructure, Explicit };
 
 const char* to_string(ShadingMode m);
-// "hair" or "substructure"; throws plumage::Error otherwise.
+// "hair", "substructure" or "explicit"; throws plumage::Error otherwise.
 ShadingMode parse_shading_mode(const std::string& s);
 
 }  // namespace plumage
