@@ -128,8 +128,8 @@ const Registration kRender{
           "See docs/rendering.md.");
       sub.add_option("input", o->input, "Feather curve file (.fcurves)")->required();
       sub.add_option("-o,--output", o->output, "Output image: .exr (linear float) or .png (sRGB 8-bit)")->required();
-      sub.add_option("--shading", o->shading, "Barb shading: hair or substructure (Baron et al. 2021; docs/substructure.md)")->capture_default_str();
-      sub.add_option("--aov", o->aov, "Write an AOV instead of the beauty image: 'structure' colours ramus, distal and proximal barbules and gaps (needs --shading substructure)");
+      sub.add_option("--shading", o->shading, "Barb shading: hair (fibres, production practice), substructure (Baron et al. 2021; docs/substructure.md) or explicit (rami and barbules as real curves: the slow reference)")->capture_default_str();
+      sub.add_option("--aov", o->aov, "Write an AOV instead of the beauty image: 'structure' colours ramus, distal and proximal barbules and gaps (needs --shading substructure or explicit)");
       o->substructure.add_to(sub);
       o->view.add_to(sub, "Image size WIDTHxHEIGHT",
                      "Dome LEDs that are on: all, none, or numbers 1..25 (e.g. 1,5,12 or 2-9)");
