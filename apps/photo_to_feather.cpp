@@ -120,6 +120,7 @@ int run_photo_to_feather(const Options& o) {
   PhotoAnalysis analysis;
   Feather feather;
   std::vector<std::string> warnings;
+  std::vector<std::string> sheet_notes;  // which feather of a sheet went on
   std::vector<fs::path> written;
   try {
     stages.run("analyze", written, [&] {
@@ -140,6 +141,15 @@ int run_photo_to_feather(const Options& o) {
     written.clear();
 
     const FeatherLayout& f = pick_feather(analysis.layout, o.feather, layout_path.string());
+    const std::size_t found = analysis.layout.feathers.size();
+    if (!o.feather && found > 1) {
+      // A sheet of several: say which one goes on, and how to pick another.
+      const std::string note = std::to_string(found) + " feathers found; using feather " +
+                               std::to_string(f.id) + " (the leftmost); pick another with --feather K (K in 1.." +
+                               std::to_string(found) + ", numbered left to right as on overlay.png)";
+      std::cerr << "warning: " << o.photo << ": " << note << "\n";
+      sheet_notes.push_back(note);
+    }
     stages.run("generate", written, [&] {
       written.push_back(texture_path);
       feather = layout_to_feather_with_albedo(f, o.seed, out, out, texture_path, layout_path.string(), &warnings);
@@ -206,6 +216,7 @@ int run_photo_to_feather(const Options& o) {
       names.push_back(summary_path.filename().string());
       j["files"] = names;
       nlohmann::json w = nlohmann::json::array();
+      for (const auto& s : sheet_notes) w.push_back("analyze: " + s);
       for (const auto& s : f.warnings) w.push_back("analyze: " + s);
       for (const auto& s : warnings) w.push_back("generate: " + s);
       j["warnings"] = w;

@@ -100,6 +100,42 @@ TEST_F(PhotoToFeather, SyntheticPhotoGivesEveryArtifactAndASummary) {
   EXPECT_GT(cmp.height, 70);
 }
 
+TEST_F(PhotoToFeather, SheetOfTwoSaysWhichFeatherItUsesAndHowToPick) {
+  // Two synthetic feathers side by side: the small one left, the large one right.
+  synthetic::SyntheticFeather a, b;
+  a.width = b.width = 300, a.height = b.height = 350;
+  a.calamus = b.calamus = {150, 320};
+  a.dir_deg = b.dir_deg = -90;
+  a.length = 200, a.w_left = a.w_right = 25, a.spacing = 6;
+  b.length = 280, b.w_left = 30, b.w_right = 45, b.spacing = 6, b.seed = 7;
+  const Image ia = a.draw(), ib = b.draw();
+  Image sheet(600, 350, 3);
+  for (int y = 0; y < 350; ++y)
+    for (int x = 0; x < 600; ++x) sheet.set_rgb(x, y, x < 300 ? ia.rgb(x, y) : ib.rgb(x - 300, y));
+  write_image(path("sheet.png"), sheet);
+
+  const CliResult r = plumage_cli("photo-to-feather " + path("sheet.png") + " -o " + path("out") +
+                                  " --mm-per-px 0.2 --spp 1 --height 40");
+  ASSERT_EQ(r.rc, 0) << r.output;
+  EXPECT_NE(r.output.find("2 feathers found; using feather 1 (the leftmost); pick another with --feather K "
+                          "(K in 1..2"),
+            std::string::npos)
+      << r.output;
+  nlohmann::json s = nlohmann::json::parse(read_file(dir_ / "out" / "summary.json"));
+  EXPECT_EQ(s.at("feathers_found"), 2);
+  EXPECT_EQ(s.at("feather"), 1);
+  EXPECT_NEAR(s.at("length_mm").get<double>(), 0.2 * a.length, 0.05 * 0.2 * a.length);
+
+  // Picking one explicitly: no note, and the right-hand feather is used.
+  const CliResult r2 = plumage_cli("photo-to-feather " + path("sheet.png") + " -o " + path("out2") +
+                                   " --mm-per-px 0.2 --spp 1 --height 40 --feather 2");
+  ASSERT_EQ(r2.rc, 0) << r2.output;
+  EXPECT_EQ(r2.output.find("feathers found"), std::string::npos) << r2.output;
+  s = nlohmann::json::parse(read_file(dir_ / "out2" / "summary.json"));
+  EXPECT_EQ(s.at("feather"), 2);
+  EXPECT_NEAR(s.at("length_mm").get<double>(), 0.2 * b.length, 0.05 * 0.2 * b.length);
+}
+
 TEST_F(PhotoToFeather, UniformImageFailsInAnalyzeAndLeavesNothing) {
   Image flat(200, 150, 3);
   for (float& v : flat.pixels) v = 0.9f;

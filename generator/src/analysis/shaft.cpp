@@ -20,6 +20,109 @@ void principal_axis(const Component& f, cv::Point2d& c, cv::Point2d& e) {
   e = {std::cos(a), std::sin(a)};
 }
 
+// Where the rachis itself is too faint to see (thin toward the tip, covered by
+// the barb roots), the vanes still say where it runs: the barbs of one vane slant
+// one way and those of the other the other way. Per row of the straightened image
+// the score of a column is how much the slant summed to its right differs from
+// that summed to its left (structure-tensor cross term, smoothed), as a fraction
+// of all the slant in the row, with the sign that peaks over the whole feather;
+// clamped at 0. It is broad where the ridge is sharp, so it guides the path to
+// the right place and the ridge puts it on the rachis.
+cv::Mat chevron_score(const cv::Mat& S, const cv::Mat& M) {
+  cv::Mat g, gx, gy;
+  cv::cvtColor(S, g, cv::COLOR_BGR2GRAY);
+  g.convertTo(g, CV_32F);
+  cv::Scharr(g, gx, CV_32F, 1, 0);
+  cv::Scharr(g, gy, CV_32F, 0, 1);
+  cv::Mat jxy = gx.mul(gy), energy = gx.mul(gx) + gy.mul(gy);
+  cv::GaussianBlur(jxy, jxy, cv::Size(0, 0), 2.0);
+  cv::GaussianBlur(energy, energy, cv::Size(0, 0), 2.0);
+  cv::Mat slant = 2 * jxy / (energy + 1e-3f);
+  slant.setTo(0, M == 0);
+  const int H = S.rows, W = S.cols;
+  cv::Mat diff(H, W, CV_32F, cv::Scalar(0));
+  double up = 0, down = 0;  // summed positive and negative row peaks
+  for (int y = 0; y < H; ++y) {
+    const float* c = slant.ptr<float>(y);
+    float* d = diff.ptr<float>(y);
+    double total = 0, absum = 0;
+    for (int x = 0; x < W; ++x) total += c[x], absum += std::fabs(c[x]);
+    if (absum <= 0) continue;
+    double left = 0, hi = 0, lo = 0;
+    for (int x = 0; x < W; ++x) {
+      d[x] = float(((total - left - c[x]) - left) / absum);
+      left += c[x];
+      if (M.at<uchar>(y, x)) hi = std::max(hi, double(d[x])), lo = std::min(lo, double(d[x]));
+    }
+    up += hi, down -= lo;
+  }
+  if (down > up) diff = -diff;
+  cv::max(diff, 0.0, diff);
+  return diff;
+}
+
+// Near a rounded tip the rachis fades out before the outline ends, and the best
+// path there follows noise to the apex of the outline. From where the ridge
+// along the path last holds a third of its typical strength, the path goes on
+// straight in the direction it had over the rows before, until that line leaves
+// the mask (unless that is well before the mask ends: a curved tip). `path` holds
+// one point per row (x: column, y: row) in row order; `tip_step` is -1 when the
+// tip is at the first row, +1 at the last.
+void straighten_faded_tip(std::vector<cv::Point2d>& path, const cv::Mat& ridge, const cv::Mat& M,
+                          int tip_step) {
+  const int n = int(path.size());
+  if (n < 40) return;
+  std::vector<float> along(n), smooth(n);
+  for (int i = 0; i < n; ++i) along[i] = ridge.at<float>(int(path[i].y), int(path[i].x));
+  const int half = std::max(2, n / 100);
+  for (int i = 0; i < n; ++i) {
+    float s = 0;
+    int c = 0;
+    for (int k = std::max(0, i - half); k <= std::min(n - 1, i + half); ++k) s += along[k], ++c;
+    smooth[i] = s / c;
+  }
+  std::vector<float> middle(along.begin() + n / 5, along.end() - n / 5);
+  std::nth_element(middle.begin(), middle.begin() + middle.size() / 2, middle.end());
+  const float typical = middle[middle.size() / 2];
+  if (!(typical > 0)) return;
+  // Index order from the tip inward.
+  auto at = [&](int k) { return tip_step > 0 ? n - 1 - k : k; };
+  int faded = 0;  // rows at the tip end where the ridge has faded
+  while (faded < n && smooth[at(faded)] < typical / 3) ++faded;
+  const int fit = std::max(10, n / 20);
+  if (faded < 3 || faded > n / 4) return;  // nothing to mend, or no rachis to trust
+  // Least-squares line x = a + b y over the `fit` rows before the faded part.
+  double sy = 0, sx = 0, syy = 0, sxy = 0;
+  for (int k = faded; k < faded + fit; ++k) {
+    const cv::Point2d& p = path[at(k)];
+    sy += p.y, sx += p.x, syy += p.y * p.y, sxy += p.x * p.y;
+  }
+  const double den = fit * syy - sy * sy;
+  if (!(std::fabs(den) > 1e-9)) return;
+  const double b = (fit * sxy - sx * sy) / den, a = (sx - b * sy) / fit;
+  const std::vector<cv::Point2d> traced = path;
+  int kept = faded;  // rows at the tip end that end up beyond the mask
+  for (int k = faded - 1; k >= 0; --k) {
+    const int i = at(k);
+    const double x = a + b * path[i].y;
+    const int xi = int(std::lround(x));
+    if (xi < 0 || xi >= M.cols || !M.at<uchar>(int(path[i].y), xi)) break;
+    path[i].x = x;
+    kept = k;
+  }
+  // A line that leaves the mask well before its last row means the feather
+  // itself curves there (a hooked tip): keep the traced path then.
+  if (kept > std::max(3, n / 100)) {
+    path = traced;
+    return;
+  }
+  // Drop the rows past the point where the line left the mask.
+  if (tip_step > 0)
+    path.resize(n - kept);
+  else
+    path.erase(path.begin(), path.begin() + kept);
+}
+
 }  // namespace
 
 Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
@@ -78,13 +181,15 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   }
   if (r1 - r0 < 8) throw Error("feather too short to trace a shaft");
 
-  // Dynamic programming: the path maximising ridge strength, moving at most
-  // two columns per row, with a small price per column moved.
+  // Dynamic programming: the path maximising ridge strength plus the vanes'
+  // chevron score, moving at most two columns per row, with a small price per
+  // column moved.
   const double lambda = 0.5 * cv::mean(ridge, M)[0];
+  const cv::Mat score = ridge + 8.0 * lambda * chevron_score(S, M);
   const float NEG = -std::numeric_limits<float>::infinity();
   std::vector<float> prev(W, 0.f), cur(W);
   std::vector<signed char> back(std::size_t(H) * W, 0);
-  for (int x = 0; x < W; ++x) prev[x] = M.at<uchar>(r0, x) ? ridge.at<float>(r0, x) : NEG;
+  for (int x = 0; x < W; ++x) prev[x] = M.at<uchar>(r0, x) ? score.at<float>(r0, x) : NEG;
   for (int y = r0 + 1; y <= r1; ++y) {
     const bool any = width[y] > 0;
     for (int x = 0; x < W; ++x) {
@@ -97,7 +202,7 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
         if (v > best) best = v, arg = static_cast<signed char>(dx);
       }
       const bool inside = !any || M.at<uchar>(y, x);
-      cur[x] = inside && best != NEG ? best + ridge.at<float>(y, x) : NEG;
+      cur[x] = inside && best != NEG ? best + score.at<float>(y, x) : NEG;
       back[std::size_t(y) * W + x] = arg;
     }
     std::swap(prev, cur);
@@ -122,6 +227,7 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   };
   const int run_top = run(r0, +1), run_bottom = run(r1, -1);
   const bool calamus_at_bottom = run_bottom >= run_top;
+  straighten_faded_tip(rows_path, ridge, M, calamus_at_bottom ? -1 : +1);
 
   Shaft shaft;
   const int step = std::max(1, (r1 - r0) / 200);

@@ -76,7 +76,7 @@ void spacing(const Unrolled& U, int j0, int j1, int side, double w, double shaft
   std::vector<double> power(nf, 0.0);
   const int hp = std::max(3, int(pmax / 2));
   int used = 0;
-  const int inner = int(std::max(shaft_w, 0.2 * w)), outer = int(0.8 * w);
+  const int inner = int(std::max(shaft_w, 0.15 * w)), outer = int(0.6 * w);
   const int step = std::max(1, (outer - inner) / 12);
   for (int o = inner; o <= outer; o += step) {
     const int col = U.R + side * o;
@@ -111,20 +111,61 @@ void spacing(const Unrolled& U, int j0, int j1, int side, double w, double shaft
     ++used;
   }
   if (!used) return;
-  const int k = int(std::max_element(power.begin(), power.end()) - power.begin());
+  int k = int(std::max_element(power.begin(), power.end()) - power.begin());
+  // Octave errors: barbs that alternate in brightness (light catching every other
+  // one, or beating with the pixel grid) give a period of two barbs whose
+  // harmonic at the true spacing is strong too. Take the harmonic at twice the
+  // frequency when it is a clear peak of its own.
+  const double f0 = 1.0 / pmax, df = (1.0 / pmin - 1.0 / pmax) / (nf - 1);
+  for (;;) {
+    const int k2 = int(std::lround((2 * (f0 + k * df) - f0) / df));
+    if (k2 + 1 >= nf) break;
+    int best = k2;
+    for (int j = std::max(0, k2 - 4); j <= std::min(nf - 1, k2 + 4); ++j)
+      if (power[j] > power[best]) best = j;
+    const bool local_peak = best > 0 && best + 1 < nf && power[best] >= power[best - 1] &&
+                            power[best] >= power[best + 1];
+    if (!local_peak || power[best] < 0.25 * power[k]) break;
+    k = best;
+  }
   double kk = k;
   if (k > 0 && k + 1 < nf) {
     const double den = power[k - 1] - 2 * power[k] + power[k + 1];
     if (den < 0) kk = k + 0.5 * (power[k - 1] - power[k + 1]) / den;
   }
-  const double fr = 1.0 / pmax + (1.0 / pmin - 1.0 / pmax) * kk / (nf - 1);
-  period = 1.0 / fr;
+  period = 1.0 / (f0 + kk * df);
   double mean = 0;
   for (double p : power) mean += p;
   mean /= nf;
   // A single clean period stands out far above the mean of the band; noise
   // peaks reach a few times it.
   conf = std::clamp((power[k] / std::max(mean, 1e-12) - 5.0) / 15.0, 0.0, 1.0);
+}
+
+// The period along a line parallel to the shaft, at offset o from it, is the
+// spacing of the barbs where they cross that line, not at their roots: a barb
+// rooted at s crosses it at s + o cot(theta(s)), so where the barb angle changes
+// along the shaft the crossings are spread by 1 + o d(cot theta)/ds. The slope
+// of cot(theta) comes from a confidence-weighted line through the station and
+// its three neighbours either side; the measured period is divided by the factor.
+void correct_spacing_for_fanning(SideMeasure& S, const std::vector<double>& offset,
+                                 double station_rows) {
+  const int n = int(S.angle_deg.size());
+  for (int k = 0; k < n; ++k) {
+    double sw = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (int j = std::max(0, k - 3); j <= std::min(n - 1, k + 3); ++j) {
+      const double wgt = S.angle_conf[j];
+      const double theta = S.angle_deg[j] * kPi / 180;
+      if (!(wgt > 0.3) || !(theta > 0.05 && theta < kPi / 2)) continue;
+      const double x = (j - k) * station_rows, y = 1.0 / std::tan(theta);
+      sw += wgt, sx += wgt * x, sy += wgt * y, sxx += wgt * x * x, sxy += wgt * x * y;
+    }
+    const double den = sw * sxx - sx * sx;
+    if (!(sw > 0) || !(den > 1e-9 * sw * sw * station_rows * station_rows)) continue;
+    const double slope = (sw * sxy - sx * sy) / den;
+    const double factor = std::clamp(1.0 + offset[k] * slope, 0.7, 1.4);
+    if (std::isfinite(S.spacing_px[k])) S.spacing_px[k] /= factor;
+  }
 }
 
 }  // namespace
@@ -155,6 +196,11 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
   cv::Scharr(U.gray, gx, CV_32F, 1, 0);
   cv::Scharr(U.gray, gy, CV_32F, 0, 1);
   cv::Mat Jxx = gx.mul(gx), Jxy = gx.mul(gy), Jyy = gy.mul(gy);
+  // The outline is the strongest edge in the photo; where it runs across the
+  // window (a rounded tip) it would pass for a barb pointing back toward the
+  // calamus. Orientations are read only a few pixels inside the mask.
+  cv::Mat interior;
+  cv::erode(U.mask, interior, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(7, 7)));
 
   // Width per row and side: the outermost mask pixel.
   std::vector<int> wl(L, 0), wr(L, 0);
@@ -173,6 +219,7 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
   }
 
   VaneMeasure out;
+  std::vector<double> offsets[2];  // mean offset of the spacing lines, per station (left, right)
   const double half_shaft = 0.5 * shaft_width_px;
   for (int k = 0; k < stations; ++k) {
     const double t = (k + 0.5) / stations;
@@ -199,7 +246,7 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
       for (int j = j0; j < j1; ++j)
         for (int o = inner; o <= outer; ++o) {
           const int i = U.R + side * o;
-          if (i < 0 || i >= U.gray.cols || !U.mask.at<uchar>(j, i)) continue;
+          if (i < 0 || i >= U.gray.cols || !interior.at<uchar>(j, i)) continue;
           a += Jxx.at<float>(j, i), b += Jxy.at<float>(j, i), d += Jyy.at<float>(j, i);
         }
       if (a + d > 0 && outer > inner) {
@@ -207,8 +254,11 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
         const double phi = 0.5 * std::atan2(2 * b, a - d);
         double bo = -std::sin(phi), bs = std::cos(phi);  // (offset, arc length)
         if (bo * side < 0) bo = -bo, bs = -bs;           // point away from the shaft
-        S.angle_deg.push_back(std::acos(std::clamp(bs, -1.0, 1.0)) * 180.0 / kPi);
-        S.angle_conf.push_back(std::sqrt((a - d) * (a - d) + 4 * b * b) / (a + d));
+        const double angle = std::acos(std::clamp(bs, -1.0, 1.0)) * 180.0 / kPi;
+        S.angle_deg.push_back(angle);
+        // Barbs leave the shaft toward the tip: an orientation pointing back
+        // toward the calamus is something else (an edge, a split) and not trusted.
+        S.angle_conf.push_back(angle < 90.0 ? std::sqrt((a - d) * (a - d) + 4 * b * b) / (a + d) : 0.0);
       } else {
         S.angle_deg.push_back(NAN);
         S.angle_conf.push_back(0.0);
@@ -220,8 +270,12 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
       spacing(U, std::max(0, c - hw), std::min(L, c + hw + 1), side, w, shaft_width_px, p, pc);
       S.spacing_px.push_back(p > 0 ? p : NAN);
       S.spacing_conf.push_back(pc);
+      offsets[side > 0].push_back(0.5 * (std::max(shaft_width_px, 0.15 * w) + 0.6 * w));
     }
   }
+  const double station_rows = double(L - 1) / stations;
+  correct_spacing_for_fanning(out.left, offsets[0], station_rows);
+  correct_spacing_for_fanning(out.right, offsets[1], station_rows);
   // Stations with nothing measurable take their nearest neighbour's value at
   // zero confidence, so every profile is complete.
   for (SideMeasure* S : {&out.left, &out.right})

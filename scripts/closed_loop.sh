@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# The closed-loop accuracy study of photo analysis (issue #6; tests/closed_loop.h):
+# runs the ClosedLoop test with PLUMAGE_CLOSED_LOOP_REPORT set, then puts its table
+# into docs/analysis.md (between the closed-loop markers) and its three overlays
+# into docs/images/closed-loop-{1,2,3}.jpg.
+#   scripts/closed_loop.sh            (needs a built build/plumage_tests)
+#   BUILD_DIR=... scripts/closed_loop.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${BUILD_DIR:-build}
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+status=0
+PLUMAGE_CLOSED_LOOP_REPORT="$out" "$build/plumage_tests" \
+  --gtest_filter='ClosedLoop.TwentyRenderedFeathersOnWhiteAndBlackMeetTheBounds' || status=$?
+[ -f "$out/closed-loop-table.md" ] || { echo "closed_loop.sh: the study wrote no table" >&2; exit 1; }
+python3 - "$out/closed-loop-table.md" docs/analysis.md <<'PY'
+import sys, os
+table = open(sys.argv[1]).read()
+doc_path = sys.argv[2]
+doc = open(doc_path).read()
+begin, end = "<!-- closed-loop:begin -->", "<!-- closed-loop:end -->"
+if begin not in doc or end not in doc:
+    sys.exit(f"{doc_path}: no {begin} ... {end} markers; add them where the table goes")
+head, rest = doc.split(begin, 1)
+_, tail = rest.split(end, 1)
+tmp = doc_path + ".tmp"
+open(tmp, "w").write(head + begin + "\n" + table + end + tail)
+os.replace(tmp, doc_path)
+PY
+for i in 1 2 3; do cp "$out/closed-loop-$i.jpg" "docs/images/closed-loop-$i.jpg"; done
+echo "closed_loop.sh: table in docs/analysis.md, overlays in docs/images/closed-loop-{1,2,3}.jpg (test status $status)"
+exit $status
