@@ -34,6 +34,7 @@ struct Options {
   std::string lights = "all";
   std::string rig = std::string(PLUMAGE_DATA_DIR) + "/rigs/dome25.json";
   std::string backdrop = "white";
+  std::string light_pick = to_string(IntegratorSettings{}.light_pick);
   double max_slope = -0.3;
 };
 
@@ -57,6 +58,7 @@ int run_bench(const Options& o) {
   view.max_depth = o.max_depth;
   view.lights = o.lights;
   view.threads = o.threads;
+  view.light_pick = parse_light_pick(o.light_pick);
 
   LadderSpec spec;
   spec.spp.clear();
@@ -134,6 +136,8 @@ const Registration kBench{
       sub.add_option("--max-depth", o->max_depth, "Maximum scattering events per path")->capture_default_str();
       sub.add_option("--lights", o->lights, "Dome LEDs that are on")->capture_default_str();
       sub.add_option("--rig", o->rig, "Light rig JSON file")->capture_default_str();
+      sub.add_option("--light-pick", o->light_pick, "Next-event estimation's light choice: uniform, estimate or all")
+          ->capture_default_str();
       sub.add_option("--backdrop", o->backdrop, "Card under the feather: white, black or none")->capture_default_str();
       sub.add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
       sub.add_option("--max-slope", o->max_slope, "Fail when a mode's upper-half slope is above this")->capture_default_str();

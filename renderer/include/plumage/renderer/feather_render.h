@@ -11,6 +11,7 @@
 #include "plumage/renderer/camera.h"
 #include "plumage/renderer/dome_rig.h"
 #include "plumage/renderer/hair_bcsdf.h"
+#include "plumage/renderer/path_integrator.h"
 #include "plumage/renderer/scene.h"
 
 namespace plumage {
@@ -21,6 +22,9 @@ struct ViewSpec {
   std::uint64_t seed = 0;
   int max_depth = 16;
   float exposure = 0;            // stops
+  // > 0: expose like a camera metered on the card instead: the backdrop's centre,
+  // lit by the selected LEDs, develops to this linear level (exposure is then ignored).
+  float card_level = 0;
   std::string lights = "all";    // dome LEDs that are on (parse_light_selection)
   CameraSpec camera;
   HairParams hair;               // sigma_a comes from the feather's albedo
@@ -30,6 +34,7 @@ struct ViewSpec {
   bool adaptive = false;         // RenderSettings: adaptive sampling, off by default
   float target_error = 0.02f;
   int min_spp = 16;
+  LightPick light_pick = IntegratorSettings{}.light_pick;  // next-event estimation's choice of light
 };
 
 // Renders `scene` under `rig` as `view` says and returns the image scaled by
