@@ -46,8 +46,13 @@ glm::vec3 FibreMaterial::sigma_a_from(const glm::vec3& albedo) const {
                                           : sigma_a_from_albedo(albedo, params_.beta_n);
 }
 
-HairParams FibreMaterial::at(const glm::vec3& p) const {
+HairParams FibreMaterial::at(const glm::vec3& p, float coverage) const {
   HairParams hp = params_;
+  if (albedo_ && mapping_ == AlbedoMapping::Layer && coverage > 0 && coverage < 1) {
+    const glm::vec3 a = glm::clamp(albedo_->at({p.x, p.y}), glm::vec3(0.0f), glm::vec3(1.0f));
+    hp.sigma_a = sigma_a_from(glm::vec3(1.0f) - (glm::vec3(1.0f) - a) / coverage);
+    return hp;
+  }
   hp.sigma_a = albedo_ && albedo_->textured() ? sigma_a_from(albedo_->at({p.x, p.y})) : constant_sigma_a_;
   return hp;
 }

@@ -421,6 +421,12 @@ StructureSample Scene::ribbon_point(std::uint32_t prim, float u, const glm::vec3
   return ss;
 }
 
+float Scene::structure_coverage(const SurfaceHit& hit) const {
+  if (hit.kind != HitKind::Barb || options_.mode != ShadingMode::Substructure) return 1.0f;
+  const RibbonSegment& rs = ribbon_segments_[hit.prim];
+  return float(rs.vane->covered_fraction(rs.length));
+}
+
 StructureSample Scene::structure_at(const SurfaceHit& hit) const {
   // Proof that hair mode never reaches substructure code (skip_work_test).
   ++g_structure_lookups;

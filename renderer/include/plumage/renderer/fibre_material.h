@@ -45,7 +45,11 @@ class FibreMaterial {
   // Absorption fixed to params.sigma_a everywhere.
   explicit FibreMaterial(const HairParams& params);
 
-  HairParams at(const glm::vec3& p) const;
+  // The fibre's parameters at p. `coverage` < 1: the fibre is one of structures
+  // that cover only that fraction of the area the albedo was measured over (the
+  // rest shows the card), so with AlbedoMapping::Layer it takes the albedo
+  // 1 - (1 - A) / coverage, which makes the area's mean come out as A.
+  HairParams at(const glm::vec3& p, float coverage = 1.0f) const;
 
  private:
   glm::vec3 sigma_a_from(const glm::vec3& albedo) const;

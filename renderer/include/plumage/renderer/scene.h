@@ -93,6 +93,9 @@ class Scene {
   CurvePoint curve_point(const SurfaceHit& hit) const;
   // Substructure mode, a barb hit: its ribbon coordinates, structure and frames.
   StructureSample structure_at(const SurfaceHit& hit) const;
+  // Substructure mode, a barb hit: the fraction of its ribbon that rami and
+  // barbules cover (BarbSubstructure::covered_fraction); 1 in hair mode.
+  float structure_coverage(const SurfaceHit& hit) const;
   const Feather& feather() const { return feather_; }
   const SceneOptions& options() const { return options_; }
   // Bounds of the feather's curves including radii (the backdrop is left out).
