@@ -48,7 +48,7 @@ glm::vec3 FibreMaterial::sigma_a_from(const glm::vec3& albedo) const {
 
 HairParams FibreMaterial::at(const glm::vec3& p, float coverage) const {
   HairParams hp = params_;
-  if (albedo_ && mapping_ == AlbedoMapping::Layer && coverage > 0 && coverage < 1) {
+  if (albedo_ && albedo_->textured() && mapping_ == AlbedoMapping::Layer && coverage > 0 && coverage < 1) {
     const glm::vec3 a = glm::clamp(albedo_->at({p.x, p.y}), glm::vec3(0.0f), glm::vec3(1.0f));
     hp.sigma_a = sigma_a_from(glm::vec3(1.0f) - (glm::vec3(1.0f) - a) / coverage);
     return hp;

@@ -47,8 +47,10 @@ class FibreMaterial {
 
   // The fibre's parameters at p. `coverage` < 1: the fibre is one of structures
   // that cover only that fraction of the area the albedo was measured over (the
-  // rest shows the card), so with AlbedoMapping::Layer it takes the albedo
-  // 1 - (1 - A) / coverage, which makes the area's mean come out as A.
+  // rest shows the card). A texture (taken from a photo) is such an area mean, so
+  // with AlbedoMapping::Layer the fibre takes the albedo 1 - (1 - A) / coverage,
+  // which makes the area's mean come out as A. A constant albedo (a preset's) is
+  // the fibres' own colour and is used as it is.
   HairParams at(const glm::vec3& p, float coverage = 1.0f) const;
 
  private:
