@@ -78,6 +78,13 @@ void BM_PrimaryRays_BareEmbree(benchmark::State& state) {
 }
 BENCHMARK(BM_PrimaryRays_BareEmbree)->Unit(benchmark::kMillisecond);
 
+// Mean over pixels and channels of the squared difference.
+double mean_squared_error(const Image& img, const Image& reference) {
+  double s = 0;
+  for (std::size_t i = 0; i < img.pixels.size(); ++i) s += std::pow(double(img.pixels[i]) - reference.pixels[i], 2);
+  return s / double(img.pixels.size());
+}
+
 LightSet dome_all(const Scene& scene) {
   const DomeRig rig = read_dome_rig(std::string(PLUMAGE_DATA_DIR) + "/rigs/dome25.json");
   const AxisBox& fb = scene.feather_bounds();
@@ -132,10 +139,7 @@ void BM_SamplerRMSE(benchmark::State& state) {
   int runs = 0;
   for (auto _ : state) {
     rs.seed = std::uint64_t(runs++);
-    const Image img = render(camera, integrator, rs).developed(0);
-    double s = 0;
-    for (std::size_t i = 0; i < img.pixels.size(); ++i) s += std::pow(double(img.pixels[i]) - reference.pixels[i], 2);
-    se += s / double(img.pixels.size());
+    se += mean_squared_error(render(camera, integrator, rs).developed(0), reference);
   }
   state.counters["rmse"] = std::sqrt(se / runs);
   state.SetLabel(rs.sampler == SamplerKind::Sobol ? "sobol" : "independent");
@@ -179,10 +183,7 @@ void BM_LightPickRMSE(benchmark::State& state) {
   int runs = 0;
   for (auto _ : state) {
     rs.seed = std::uint64_t(runs++);
-    const Image img = render(camera, pi, rs).developed(0);
-    double s = 0;
-    for (std::size_t i = 0; i < img.pixels.size(); ++i) s += std::pow(double(img.pixels[i]) - reference.pixels[i], 2);
-    se += s / double(img.pixels.size());
+    se += mean_squared_error(render(camera, pi, rs).developed(0), reference);
   }
   state.counters["rmse"] = std::sqrt(se / runs);
   state.SetLabel(to_string(pick));

@@ -9,15 +9,9 @@
 #include "render_test_feather.h"
 
 using namespace plumage;
+using test::mean_channel;
 
 namespace {
-
-double mean_channel(const Image& img, int c) {
-  double s = 0;
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x) s += img.at(x, y)[c];
-  return s / (double(img.width) * img.height);
-}
 
 // Two tiny barbs at opposite corners: they set the card's size and stay out of the way.
 Feather corner_barbs() {

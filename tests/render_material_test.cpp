@@ -12,6 +12,7 @@
 #include "render_test_feather.h"
 
 using namespace plumage;
+using test::mean_channel;
 namespace fs = std::filesystem;
 
 TEST(RenderMaterial, TextureMapsThroughTheRectTipUp) {
@@ -77,13 +78,6 @@ TEST(RenderMaterial, NonFiniteSamplesAreCountedAndDropped) {
 }
 
 namespace {
-
-double mean_channel(const Image& img, int c) {
-  double s = 0;
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x) s += img.at(x, y)[c];
-  return s / (double(img.width) * img.height);
-}
 
 // One layer of touching parallel barbs over a white card under a uniform sky (the
 // diffuse light an albedo photo is taken in), seen from above: the layer's colour
