@@ -34,6 +34,7 @@ struct Options {
   std::string lights = "all";
   std::string rig = std::string(PLUMAGE_DATA_DIR) + "/rigs/dome25.json";
   std::string backdrop = "white";
+  std::string light_pick = to_string(IntegratorSettings{}.light_pick);
   double max_slope = -0.3;
   std::string reference_mode;  // accuracy study: one reference in this mode for every mode
   std::string zoom;            // X,Y,H: top-down orthographic view H mm high centred on (X, Y)
@@ -70,6 +71,7 @@ int run_bench(const Options& o) {
     view.camera.look_at = glm::vec3(x, y, 0.0f);
     view.camera.ortho_height = h;
   }
+  view.light_pick = parse_light_pick(o.light_pick);
 
   LadderSpec spec;
   spec.spp.clear();
@@ -152,6 +154,8 @@ const Registration kBench{
       sub.add_option("--max-depth", o->max_depth, "Maximum scattering events per path")->capture_default_str();
       sub.add_option("--lights", o->lights, "Dome LEDs that are on")->capture_default_str();
       sub.add_option("--rig", o->rig, "Light rig JSON file")->capture_default_str();
+      sub.add_option("--light-pick", o->light_pick, "Next-event estimation's light choice: uniform, estimate or all")
+          ->capture_default_str();
       sub.add_option("--backdrop", o->backdrop, "Card under the feather: white, black or none")->capture_default_str();
       sub.add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
       sub.add_option("--max-slope", o->max_slope, "Fail when a mode's upper-half slope is above this")->capture_default_str();

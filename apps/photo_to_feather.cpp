@@ -25,6 +25,7 @@
 #include "plumage/generator/layout_to_params.h"
 #include "plumage/generator/preview.h"
 #include "plumage/renderer/feather_render.h"
+#include "plumage/renderer/film.h"
 #include "plumage/renderer/panel_layout.h"
 
 namespace plumage::cli {
@@ -181,7 +182,9 @@ int run_photo_to_feather(const Options& o) {
       const DomeRig rig = read_dome_rig(o.rig);
       SceneOptions so;
       so.backdrop = {true, analysis.layout.background == "dark" ? glm::vec3(0.03f) : glm::vec3(0.8f)};
-      std::vector<Panel> panels{{scale_to_height(read_image(o.photo), view.height), "photo"}};
+      const Image photo = read_image(o.photo);
+      view.card_level = border_luminance(photo);  // expose the renders like the photo: its card at its level
+      std::vector<Panel> panels{{scale_to_height(photo, view.height), "photo"}};
       so.mode = ShadingMode::Hair;
       panels.push_back({render_view(Scene(feather, so), rig, view), "hair"});
       so.mode = ShadingMode::Substructure;

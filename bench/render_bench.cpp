@@ -78,6 +78,13 @@ void BM_PrimaryRays_BareEmbree(benchmark::State& state) {
 }
 BENCHMARK(BM_PrimaryRays_BareEmbree)->Unit(benchmark::kMillisecond);
 
+// Mean over pixels and channels of the squared difference.
+double mean_squared_error(const Image& img, const Image& reference) {
+  double s = 0;
+  for (std::size_t i = 0; i < img.pixels.size(); ++i) s += std::pow(double(img.pixels[i]) - reference.pixels[i], 2);
+  return s / double(img.pixels.size());
+}
+
 LightSet dome_all(const Scene& scene) {
   const DomeRig rig = read_dome_rig(std::string(PLUMAGE_DATA_DIR) + "/rigs/dome25.json");
   const AxisBox& fb = scene.feather_bounds();
@@ -132,10 +139,7 @@ void BM_SamplerRMSE(benchmark::State& state) {
   int runs = 0;
   for (auto _ : state) {
     rs.seed = std::uint64_t(runs++);
-    const Image img = render(camera, integrator, rs).developed(0);
-    double s = 0;
-    for (std::size_t i = 0; i < img.pixels.size(); ++i) s += std::pow(double(img.pixels[i]) - reference.pixels[i], 2);
-    se += s / double(img.pixels.size());
+    se += mean_squared_error(render(camera, integrator, rs).developed(0), reference);
   }
   state.counters["rmse"] = std::sqrt(se / runs);
   state.SetLabel(rs.sampler == SamplerKind::Sobol ? "sobol" : "independent");
@@ -143,6 +147,50 @@ void BM_SamplerRMSE(benchmark::State& state) {
 BENCHMARK(BM_SamplerRMSE)
     ->ArgsProduct({{4, 16, 64}, {0, 1}})
     ->Iterations(4)
+    ->Unit(benchmark::kMillisecond);
+
+// Next-event estimation's light choice (arg 0: spp, arg 1: LightPick uniform /
+// estimate / all): RMSE of a 48x48 render of the osprey preset (hair shading,
+// white card) under all 25 LEDs against one 512-spp reference drawn with every
+// light per vertex, and the CPU time per image (1 thread). Efficiency is
+// 1 / (rmse^2 x time). docs/perf/render.md, "Light selection".
+void BM_LightPickRMSE(benchmark::State& state) {
+  static const Feather feather = build_feather(load_preset("osprey-wing-covert"), 1, "preset:osprey-wing-covert");
+  static const Scene scene(feather, SceneOptions{ShadingMode::Hair, {true, glm::vec3(0.8f)}});
+  static const LightSet lights = dome_all(scene);
+  static const FibreMaterial material(HairParams{}, AlbedoMap(feather.albedo, "."));
+  static const Camera camera(CameraSpec{}, 48, 48, scene.feather_bounds());
+  const auto integrator = [](LightPick pick) {
+    IntegratorSettings is;
+    is.light_pick = pick;
+    return PathIntegrator(scene, lights, material, is);
+  };
+  static const Image reference = [&] {
+    RenderSettings rs;
+    rs.spp = 512;
+    rs.seed = 999;
+    rs.threads = 1;
+    rs.progress = false;
+    return render(camera, integrator(LightPick::All), rs).developed(0);
+  }();
+  const LightPick pick = LightPick(state.range(1));
+  const PathIntegrator pi = integrator(pick);
+  RenderSettings rs;
+  rs.spp = int(state.range(0));
+  rs.threads = 1;
+  rs.progress = false;
+  double se = 0;
+  int runs = 0;
+  for (auto _ : state) {
+    rs.seed = std::uint64_t(runs++);
+    se += mean_squared_error(render(camera, pi, rs).developed(0), reference);
+  }
+  state.counters["rmse"] = std::sqrt(se / runs);
+  state.SetLabel(to_string(pick));
+}
+BENCHMARK(BM_LightPickRMSE)
+    ->ArgsProduct({{16, 32}, {0, 1, 2}})
+    ->Iterations(3)
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -61,11 +61,12 @@ Image side_by_side_of(const Feather& feather, std::uint64_t seed) {
 // Values clamped to 1 as the PNG a person looks at is (glints on the fibres are
 // fireflies at this sample count), 8x8 box averages (Monte Carlo noise averages
 // out, changes in the picture do not), then the mean absolute difference relative
-// to the reference's mean, below the label strip (the same in every image).
-double rel_mae(const Image& a, const Image& b) {
+// to the reference's mean, below the label strip (the same in every image), from
+// column x0 on.
+double rel_mae(const Image& a, const Image& b, int x0 = 0) {
   double diff = 0, ref = 0;
   for (int y = 16; y + 8 <= b.height; y += 8)
-    for (int x = 0; x + 8 <= b.width; x += 8)
+    for (int x = x0; x + 8 <= b.width; x += 8)
       for (int c = 0; c < 3; ++c) {
         double sa = 0, sb = 0;
         for (int j = 0; j < 8; ++j)
@@ -108,7 +109,10 @@ TEST(CompareGolden, ComparisonCatchesAChangedSubstructure) {
   sparse.left.barbules_per_side = sparse.right.barbules_per_side = 0;
   const Image img = side_by_side_of(sparse, 1);
   ASSERT_EQ(ref.width, img.width);
-  const double changed = rel_mae(img, ref);
+  // Only the right half, the substructure panel: the hair panel is the same image,
+  // and with absorbing fibres (layer albedo mapping) averaging it in would dilute
+  // the change below the noise limit.
+  const double changed = rel_mae(img, ref, ref.width / 2);
   std::printf("relative MAE without barbules: %.4f (limit %.2f)\n", changed, kMaxRelMae);
   EXPECT_GT(changed, kMaxRelMae);
 }

@@ -565,3 +565,29 @@ TEST(HairAbsorption, MoreEumelaninAbsorbsMore) {
   EXPECT_GT(s.y, s.x);
   EXPECT_THROW(sigma_a_from_melanin(-1.0f, 0.0f), Error);
 }
+
+TEST(HairAlbedo, LayerMappingInvertsTheRoundTripThroughOneFibre) {
+  // Mean chord: pi/2 without refraction; the midpoint rule for keratin.
+  EXPECT_NEAR(mean_normal_chord(1.0f), 3.14159265f / 2, 1e-5f);
+  for (float eta : {1.2f, 1.55f, 2.5f}) {
+    double c = 0;
+    const int n = 20000;
+    for (int k = 0; k < n; ++k) {
+      const double h = (k + 0.5) / n;
+      c += 2 * std::sqrt(1 - h * h / (double(eta) * eta)) / n;
+    }
+    EXPECT_NEAR(mean_normal_chord(eta), c, 1e-4) << "eta " << eta;
+  }
+  const float c = mean_normal_chord(1.55f);
+  for (float a : {1.0f, 0.9f, 0.5f, 0.1f, 1e-3f}) {
+    const glm::vec3 s = sigma_a_from_layer_albedo(glm::vec3(a), 1.55f);
+    EXPECT_NEAR(std::exp(-2 * s.x * c), a, 1e-5f * std::max(1.0f, a)) << "albedo " << a;
+  }
+  // Stress: zero, above one, huge, NaN, eta below 1.
+  EXPECT_TRUE(std::isfinite(sigma_a_from_layer_albedo(glm::vec3(0.0f), 1.55f).x));
+  EXPECT_EQ(sigma_a_from_layer_albedo(glm::vec3(7.0f), 1.55f).x, 0.0f);
+  EXPECT_THROW(sigma_a_from_layer_albedo(glm::vec3(std::nanf("")), 1.55f), Error);
+  EXPECT_THROW(sigma_a_from_layer_albedo(glm::vec3(0.5f), 0.9f), Error);
+  // Much more absorbing than the dense-hair inversion for light colours.
+  EXPECT_GT(sigma_a_from_layer_albedo(glm::vec3(0.6f), 1.55f).x, 5 * sigma_a_from_albedo(glm::vec3(0.6f), 0.3f).x);
+}

@@ -9,15 +9,9 @@
 #include "render_test_feather.h"
 
 using namespace plumage;
+using test::mean_channel;
 
 namespace {
-
-double mean_channel(const Image& img, int c) {
-  double s = 0;
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x) s += img.at(x, y)[c];
-  return s / (double(img.width) * img.height);
-}
 
 // Two tiny barbs at opposite corners: they set the card's size and stay out of the way.
 Feather corner_barbs() {
@@ -90,9 +84,12 @@ TEST(RenderIntegrator, SameSeedSameImageWithOneOrTwoThreads) {
   lights.add(SphereLight{{0, 15, 40}, 3.0f, glm::vec3(50.0f)});
   lights.set_environment(EnvironmentLight(glm::vec3(0.2f)));
   const FibreMaterial material(HairParams{}, AlbedoMap(glm::vec3(0.6f, 0.4f, 0.3f)));
-  const PathIntegrator integrator(scene, lights, material, IntegratorSettings{});
   const Camera camera(CameraSpec{}, 24, 20, scene.feather_bounds());
+  for (LightPick pick : {LightPick::Uniform, LightPick::Estimate, LightPick::All})
   for (SamplerKind kind : {SamplerKind::Sobol, SamplerKind::Independent}) {
+    IntegratorSettings is;
+    is.light_pick = pick;
+    const PathIntegrator integrator(scene, lights, material, is);
     RenderSettings rs;
     rs.spp = 4;
     rs.seed = 42;
@@ -105,7 +102,7 @@ TEST(RenderIntegrator, SameSeedSameImageWithOneOrTwoThreads) {
     const Image two = render(camera, integrator, rs).developed(0);
     ASSERT_EQ(one.pixels.size(), two.pixels.size());
     EXPECT_EQ(std::memcmp(one.pixels.data(), two.pixels.data(), one.pixels.size() * sizeof(float)), 0)
-        << to_string(kind);
+        << to_string(kind) << ", " << to_string(pick);
     rs.seed = 43;
     const Image other = render(camera, integrator, rs).developed(0);
     EXPECT_NE(std::memcmp(one.pixels.data(), other.pixels.data(), one.pixels.size() * sizeof(float)), 0)
@@ -168,4 +165,77 @@ TEST(RenderIntegrator, LightScattersBetweenBarbs) {
   const double m = mean_channel(render(camera, multi, rs).developed(0), 0);
   EXPECT_EQ(d, 0.0) << "the upper barb must shadow the lower one from a light straight above";
   EXPECT_GT(m, 0.01);
+}
+
+TEST(RenderIntegrator, EveryLightPickIsUnbiasedOnACardUnderUnequalLights) {
+  // Three sphere lights of very different power and size, close enough that BCSDF
+  // samples hit them often: light sampling with each pick strategy and the
+  // MIS-weighted hits (which must use the same pick probability) add up to the
+  // exact irradiance, sum of pi L (a/d)^2 cos(theta).
+  SceneOptions so;
+  so.backdrop = {true, glm::vec3(0.7f)};
+  const Scene scene(corner_barbs(), so);
+  const glm::vec3 P(0, 0, scene.backdrop_z());
+  struct L {
+    glm::vec3 offset;
+    float radius, radiance;
+  };
+  const L specs[] = {{{30, 0, 40}, 2.0f, 100.0f}, {{0, -6, 8}, 4.0f, 0.5f}, {{-3, 4, 12}, 3.0f, 5.0f}};
+  LightSet lights;
+  double E = 0;
+  for (const L& l : specs) {
+    lights.add(SphereLight{P + l.offset, l.radius, glm::vec3(l.radiance)});
+    const double d = glm::length(l.offset);
+    E += 3.14159265 * l.radiance * (l.radius / d) * (l.radius / d) * (l.offset.z / d);
+  }
+  const double expected = 0.7 / 3.14159265 * E;
+  CameraSpec cs;
+  cs.projection = Projection::Orthographic;
+  cs.position = P + glm::vec3(0, 0, 1);
+  cs.look_at = P;
+  cs.ortho_height = 0.01f;
+  const Camera camera(cs, 4, 4, scene.feather_bounds());
+  const FibreMaterial material(HairParams{});
+  RenderSettings rs;
+  rs.spp = 1024;
+  rs.progress = false;
+  for (LightPick pick : {LightPick::Uniform, LightPick::Estimate, LightPick::All}) {
+    IntegratorSettings is{1, 3};
+    is.light_pick = pick;
+    const PathIntegrator integrator(scene, lights, material, is);
+    EXPECT_NEAR(mean_channel(render(camera, integrator, rs).developed(0), 0), expected, 0.01 * expected)
+        << to_string(pick);
+  }
+}
+
+TEST(RenderIntegrator, LightPicksAgreeOnFibresUnderTheDomeAndAnEnvironment) {
+  // Fibres over a card, lit by a ring of LEDs of unequal power, a directional light
+  // and an environment, several bounces: the estimate and all-lights strategies
+  // converge to what uniform choice gives (image means within 2 %).
+  SceneOptions so;
+  so.backdrop.enabled = true;
+  const Scene scene(test::make_test_feather(30.0f, 0.6f, 0.06f), so);
+  LightSet lights;
+  for (int k = 0; k < 6; ++k) {
+    const float a = 2 * 3.14159265f * k / 6;
+    lights.add(SphereLight{{40 * std::cos(a), 40 * std::sin(a), 30}, 1.5f, glm::vec3(20.0f * float(k + 1))});
+  }
+  lights.add(DirectionalLight{glm::normalize(glm::vec3(1, 1, 2)), glm::vec3(0.3f)});
+  lights.set_environment(EnvironmentLight(glm::vec3(0.1f)));
+  const FibreMaterial material(HairParams{}, AlbedoMap(glm::vec3(0.6f, 0.4f, 0.3f)));
+  const Camera camera(CameraSpec{}, 16, 16, scene.feather_bounds());
+  RenderSettings rs;
+  rs.spp = 256;
+  rs.progress = false;
+  double mean[3][3];
+  int row = 0;
+  for (LightPick pick : {LightPick::Uniform, LightPick::Estimate, LightPick::All}) {
+    IntegratorSettings is;
+    is.light_pick = pick;
+    const Image img = render(camera, PathIntegrator(scene, lights, material, is), rs).developed(0);
+    for (int c = 0; c < 3; ++c) mean[row][c] = mean_channel(img, c);
+    ++row;
+  }
+  for (int r = 1; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(mean[r][c], mean[0][c], 0.02 * mean[0][c]) << "strategy " << r << " channel " << c;
 }

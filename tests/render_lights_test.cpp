@@ -6,7 +6,10 @@
 
 #include <filesystem>
 #include <numbers>
+#include <cmath>
+#include <limits>
 #include <random>
+#include <vector>
 
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
@@ -138,4 +141,58 @@ TEST(RenderLights, LightSelectionIsStrict) {
   EXPECT_EQ(parse_light_selection("2-4,1", 5), (std::vector<int>{0, 1, 2, 3}));
   for (const char* bad : {"0", "26", "1,,2", "x", "4-2", "1.5", "-3"})
     EXPECT_THROW(parse_light_selection(bad, 25), Error) << bad;
+}
+
+TEST(RenderLights, PickPmfSumsToOneAndKeepsEveryLight) {
+  const float nan = std::nanf(""), inf = std::numeric_limits<float>::infinity();
+  const std::vector<std::vector<float>> cases{
+      {1, 2, 3, 4},        {0, 0, 5},        {1e-30f, 1e30f, 1},  {-1, nan, 2, 0},
+      {7},                 {0, 0, 0},        {inf, 1, 1},         {1e30f, 1e30f, 1e30f, 1e30f}};
+  for (const auto& w : cases) {
+    std::vector<float> pmf(w.size(), -1.0f);
+    light_pick_pmf(w, pmf);
+    double sum = 0;
+    for (float p : pmf) {
+      EXPECT_GE(p, kUniformPickShare / float(w.size()) * (1 - 1e-5f));
+      EXPECT_TRUE(std::isfinite(p));
+      sum += p;
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-5) << "case of " << w.size() << " lights starting " << w[0];
+  }
+  // Proportional to the estimates beyond the uniform floor.
+  std::vector<float> pmf(3);
+  light_pick_pmf(std::vector<float>{1, 3, 0}, pmf);
+  const float floor = kUniformPickShare / 3;
+  EXPECT_NEAR(pmf[0], floor + 0.25f * (1 - kUniformPickShare), 1e-6f);
+  EXPECT_NEAR(pmf[1], floor + 0.75f * (1 - kUniformPickShare), 1e-6f);
+  EXPECT_NEAR(pmf[2], floor, 1e-6f);
+}
+
+TEST(RenderLights, PickFromPmfFollowsThePmf) {
+  const std::vector<float> pmf{0.1f, 0.0f, 0.6f, 0.3f};
+  std::vector<int> hits(pmf.size(), 0);
+  const int n = 10000;
+  for (int k = 0; k < n; ++k) ++hits[pick_from_pmf(pmf, (k + 0.5f) / n)];
+  for (std::size_t i = 0; i < pmf.size(); ++i) EXPECT_NEAR(hits[i] / double(n), pmf[i], 2.0 / n) << "light " << i;
+  // u beyond a cdf that rounding left short of 1 still lands on a light with p > 0.
+  EXPECT_EQ(pick_from_pmf(std::vector<float>{0.5f, 0.49999f, 0.0f}, 0.999999f), 1u);
+}
+
+TEST(RenderLights, ProxiesPointAtTheLightsWithTheirStrength) {
+  LightSet lights;
+  lights.add(SphereLight{{0, 0, 10}, 1.0f, glm::vec3(2.0f)});
+  lights.add(DirectionalLight{{1, 0, 0}, glm::vec3(0.5f)});
+  lights.set_environment(EnvironmentLight(glm::vec3(0.25f)));
+  ASSERT_EQ(lights.count(), 3u);
+  EXPECT_EQ(lights.environment_index(), 2u);
+  const LightProxy s = lights.proxy(0, glm::vec3(0));
+  EXPECT_NEAR(s.wi.z, 1.0f, 1e-6f);
+  // Le x solid angle of the cone, 2 pi (1 - cos theta_max).
+  const float omega = 2 * kPi * (1 - std::sqrt(1 - 0.01f));
+  EXPECT_NEAR(s.strength.x, 2.0f * omega, 1e-3f * 2.0f * omega);
+  EXPECT_NEAR(lights.proxy(1, glm::vec3(0)).strength.y, 0.5f, 1e-6f);
+  EXPECT_FALSE(lights.proxy(2, glm::vec3(0)).directional);
+  EXPECT_NEAR(lights.proxy(2, glm::vec3(0)).strength.z, kPi * 0.25f, 1e-4f);
+  EXPECT_EQ(parse_light_pick("estimate"), LightPick::Estimate);
+  EXPECT_THROW(parse_light_pick("power"), Error);
 }

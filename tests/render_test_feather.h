@@ -5,8 +5,17 @@
 #include <cmath>
 
 #include "plumage/common/feather.h"
+#include "plumage/common/image.h"
 
 namespace plumage::test {
+
+// Mean of one channel over a rendered image.
+inline double mean_channel(const Image& img, int c) {
+  double s = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) s += img.at(x, y)[c];
+  return s / (double(img.width) * img.height);
+}
 
 inline Feather make_test_feather(float length = 60.0f, float barb_spacing = 0.5f, float barb_radius = 0.05f) {
   Feather f;

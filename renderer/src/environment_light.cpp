@@ -22,6 +22,7 @@ float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0
 EnvironmentLight::EnvironmentLight(const glm::vec3& radiance) : constant_(radiance) {
   if (!(radiance.x >= 0 && radiance.y >= 0 && radiance.z >= 0) || !std::isfinite(radiance.x + radiance.y + radiance.z))
     throw Error("environment colour must be finite and non-negative");
+  mean_luminance_ = luminance(radiance);
 }
 
 EnvironmentLight::EnvironmentLight(const std::filesystem::path& latlong, float scale)
@@ -48,6 +49,9 @@ EnvironmentLight::EnvironmentLight(const std::filesystem::path& latlong, float s
     row_cdf_[y + 1] = row_cdf_[y] + cdf[W];
   }
   total_ = row_cdf_[H];
+  double solid = 0;  // sum of the pixels' sin(theta), the weights' solid-angle measure
+  for (int y = 0; y < H; ++y) solid += double(W) * std::sin(kPi * (y + 0.5f) / H);
+  mean_luminance_ = solid > 0 ? float(double(total_) / solid) : 0.0f;
 }
 
 glm::vec3 EnvironmentLight::Le(const glm::vec3& d) const {

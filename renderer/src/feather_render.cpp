@@ -1,9 +1,25 @@
 #include "plumage/renderer/feather_render.h"
 
+#include <cmath>
+#include <numbers>
+
 #include "plumage/common/error.h"
 #include "plumage/renderer/render.h"
 
 namespace plumage {
+
+namespace {
+// The view's exposure, or the one that develops the lit card to view.card_level.
+float exposure_for(const Scene& scene, const LightSet& lights, const ViewSpec& view) {
+  if (!(view.card_level > 0) || !scene.options().backdrop.enabled) return view.exposure;
+  const glm::vec3 centre(scene.feather_bounds().centre().x, scene.feather_bounds().centre().y, scene.backdrop_z());
+  glm::vec3 E(0);
+  for (const SphereLight& l : lights.spheres()) E += sphere_light_irradiance(l, centre, {0, 0, 1});
+  const glm::vec3 card = scene.options().backdrop.albedo * E / std::numbers::pi_v<float>;
+  const float level = 0.2126f * card.x + 0.7152f * card.y + 0.0722f * card.z;
+  return level > 0 ? std::log2(view.card_level / level) : view.exposure;
+}
+}  // namespace
 
 LightSet view_lights(const AxisBox& fb, const DomeRig& rig, const ViewSpec& view) {
   LightSet lights;
@@ -28,6 +44,7 @@ Image render_view(const Scene& scene, const DomeRig& rig, const ViewSpec& view) 
   if (view.max_depth < 0) throw Error("--max-depth must be 0 or more");
   IntegratorSettings is;
   is.max_depth = view.max_depth;
+  is.light_pick = view.light_pick;
   const PathIntegrator integrator(scene, lights, material, is);
   const Camera camera(view.camera, view.width, view.height, fb);
   RenderSettings rs;
@@ -39,7 +56,7 @@ Image render_view(const Scene& scene, const DomeRig& rig, const ViewSpec& view) 
   rs.adaptive = view.adaptive;
   rs.target_error = view.target_error;
   rs.min_spp = view.min_spp;
-  return render(camera, integrator, rs).developed(view.exposure);
+  return render(camera, integrator, rs).developed(exposure_for(scene, lights, view));
 }
 
 }  // namespace plumage

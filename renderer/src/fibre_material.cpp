@@ -35,16 +35,25 @@ glm::vec3 AlbedoMap::at(const glm::vec2& xy) const {
   return glm::clamp(glm::mix(top, bottom, ty), glm::vec3(0.0f), glm::vec3(1.0f));
 }
 
-FibreMaterial::FibreMaterial(const HairParams& params, AlbedoMap albedo)
-    : params_(params), albedo_(std::move(albedo)),
-      constant_sigma_a_(sigma_a_from_albedo(albedo_->at({0, 0}), params.beta_n)) {}
+FibreMaterial::FibreMaterial(const HairParams& params, AlbedoMap albedo, AlbedoMapping mapping)
+    : params_(params), albedo_(std::move(albedo)), mapping_(mapping),
+      constant_sigma_a_(sigma_a_from(albedo_->at({0, 0}))) {}
 
 FibreMaterial::FibreMaterial(const HairParams& params) : params_(params), constant_sigma_a_(params.sigma_a) {}
 
-HairParams FibreMaterial::at(const glm::vec3& p) const {
+glm::vec3 FibreMaterial::sigma_a_from(const glm::vec3& albedo) const {
+  return mapping_ == AlbedoMapping::Layer ? sigma_a_from_layer_albedo(albedo, params_.eta)
+                                          : sigma_a_from_albedo(albedo, params_.beta_n);
+}
+
+HairParams FibreMaterial::at(const glm::vec3& p, float coverage) const {
   HairParams hp = params_;
-  hp.sigma_a = albedo_ && albedo_->textured() ? sigma_a_from_albedo(albedo_->at({p.x, p.y}), params_.beta_n)
-                                              : constant_sigma_a_;
+  if (albedo_ && albedo_->textured() && mapping_ == AlbedoMapping::Layer && coverage > 0 && coverage < 1) {
+    const glm::vec3 a = glm::clamp(albedo_->at({p.x, p.y}), glm::vec3(0.0f), glm::vec3(1.0f));
+    hp.sigma_a = sigma_a_from(glm::vec3(1.0f) - (glm::vec3(1.0f) - a) / coverage);
+    return hp;
+  }
+  hp.sigma_a = albedo_ && albedo_->textured() ? sigma_a_from(albedo_->at({p.x, p.y})) : constant_sigma_a_;
   return hp;
 }
 

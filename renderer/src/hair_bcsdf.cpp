@@ -99,6 +99,20 @@ glm::vec3 sigma_a_from_albedo(const glm::vec3& albedo, float beta_n) {
   return sigma;
 }
 
+float mean_normal_chord(float eta) {
+  if (!(eta >= 1.0f) || !std::isfinite(eta)) fail("albedo", "eta", eta, "is not a finite index of refraction >= 1");
+  const double s = 1.0 / double(eta);
+  return float(double(eta) * (s * std::sqrt(1.0 - s * s) + std::asin(s)));
+}
+
+glm::vec3 sigma_a_from_layer_albedo(const glm::vec3& albedo, float eta) {
+  if (!finite(albedo)) fail("albedo", "colour", albedo.x + albedo.y + albedo.z, "is not finite");
+  const double path = 2.0 * double(mean_normal_chord(eta));  // down to the card and back up
+  glm::vec3 sigma;
+  for (int c = 0; c < 3; ++c) sigma[c] = float(-std::log(double(std::clamp(albedo[c], kMinAlbedo, 1.0f))) / path);
+  return sigma;
+}
+
 HairBCSDF::HairBCSDF(const HairParams& params, float h) : p_(params) {
   validate(params);
   if (!std::isfinite(h)) fail("hair BCSDF", "h", h, "is not finite; the renderer computed a bad fibre offset");
@@ -216,6 +230,17 @@ glm::vec3 HairBCSDF::f(const glm::vec3& wo, const glm::vec3& wi) const {
 
 float HairBCSDF::pdf(const glm::vec3& wo, const glm::vec3& wi) const {
   return static_cast<float>(eval(wo, wi).pdf);
+}
+
+void HairBCSDF::f_cos(const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<glm::vec3> out) const {
+  if (!finite(wo)) {
+    std::fill(out.begin(), out.end(), glm::vec3(0));
+    return;
+  }
+  const Longitude o = longitude(wo);
+  const Attenuation at = attenuation(o.sin, o.cos);
+  for (std::size_t k = 0; k < wi.size(); ++k)
+    out[k] = finite(wi[k]) ? glm::vec3(eval(wo, wi[k], at).f) * bcsdf_cos(wi[k]) : glm::vec3(0);
 }
 
 // Chiang et al. 2016 §4.3: pick a lobe by its weight, sample theta_i from its Mp and

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <span>
+#include <vector>
 
 #include "plumage/renderer/fibre_frame.h"
 
@@ -21,10 +23,16 @@ struct Scatter {
   virtual glm::vec3 f_cos(const glm::vec3& wi, float* pdf) const = 0;
   // A direction, its throughput weight f cos / pdf and pdf; false when none.
   virtual bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const = 0;
+  // f cos for many directions at once (no pdfs).
+  virtual void f_cos(std::span<const glm::vec3> wi, std::span<glm::vec3> out) const {
+    float pdf;
+    for (std::size_t k = 0; k < wi.size(); ++k) out[k] = f_cos(wi[k], &pdf);
+  }
 };
 
 // Lambertian card, seen from either side.
 struct DiffuseScatter final : Scatter {
+  using Scatter::f_cos;
   glm::vec3 n, albedo;
   DiffuseScatter(const glm::vec3& normal, const glm::vec3& wo, const glm::vec3& a)
       : n(glm::dot(normal, wo) < 0 ? -normal : normal), albedo(a) {}
@@ -58,6 +66,13 @@ struct FibreScatter final : Scatter {
     *pdf = bcsdf.pdf(wo_local, wl);
     return bcsdf.f(wo_local, wl) * bcsdf_cos(wl);
   }
+  void f_cos(std::span<const glm::vec3> wi, std::span<glm::vec3> out) const override {
+    thread_local std::vector<glm::vec3> local;
+    local.resize(wi.size());
+    for (std::size_t k = 0; k < wi.size(); ++k) local[k] = ff.frame.to_local(wi[k]);
+    bcsdf.f_cos(wo_local, local, out);
+  }
+  using Scatter::f_cos;
   bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const override {
     const auto s = bcsdf.sample(wo_local, {u.x, u.y}, {u.z, u.w});
     if (!s || !(s->pdf > 0)) return false;
@@ -66,6 +81,75 @@ struct FibreScatter final : Scatter {
     *weight = s->f * (bcsdf_cos(s->wi) / s->pdf);
     return true;
   }
+};
+
+// One shadow ray to light i, chosen with probability `pick`: its contribution
+// f cos Le / (pick pdf), MIS-weighted against BCSDF sampling (power heuristic).
+glm::vec3 direct_light(const Scene& scene, const LightSet& lights, const SurfaceHit& hit, const Scatter& bsdf,
+                       std::size_t i, float pick, const glm::vec2& u, PathCounters& counters) {
+  const auto ls = lights.sample(i, hit.p, u);
+  if (!ls || !(ls->pdf > 0) || !(pick > 0)) return glm::vec3(0);
+  float pdf_bsdf = 0;
+  const glm::vec3 fc = bsdf.f_cos(ls->wi, &pdf_bsdf);
+  if (!(fc.x > 0 || fc.y > 0 || fc.z > 0)) return glm::vec3(0);
+  const Ray shadow = scene.spawn(hit, ls->wi, ls->dist * (1.0f - 1e-4f));
+  ++counters.shadow_rays;
+  if (scene.occluded(shadow)) return glm::vec3(0);
+  const float pdf = ls->pdf * pick;
+  const float w = ls->delta ? 1.0f : power_heuristic(pdf, pdf_bsdf);
+  return fc * ls->Le * (w / pdf);
+}
+
+// The environment has no direction to evaluate the BCSDF at: its estimate assumes
+// a surface that reflects half of what falls on it, diffusely.
+constexpr float kEnvironmentResponse = 0.5f / kPi;
+
+// Next-event estimation's choice of light at one vertex, and the probability of
+// that choice for MIS when a BCSDF-sampled ray of the same vertex hits a light.
+// The pmf lives in per-thread buffers (Li is not re-entrant), so a path allocates nothing.
+class LightChoice {
+ public:
+  LightChoice(std::size_t n, LightPick mode) : n_(n), mode_(mode) {
+    thread_local std::vector<float> pmf, weights;
+    pmf_ = &pmf;
+    weights_ = &weights;
+  }
+  // Weighs every light by lum(f_cos(wi) strength) at this vertex (LightPick::Estimate).
+  void estimate(const LightSet& lights, const glm::vec3& p, const Scatter& bsdf) {
+    thread_local std::vector<LightProxy> proxies;
+    thread_local std::vector<glm::vec3> dirs, response;
+    proxies.resize(n_);
+    dirs.resize(n_);
+    response.resize(n_);
+    weights_->resize(n_);
+    pmf_->resize(n_);
+    for (std::size_t i = 0; i < n_; ++i) {
+      proxies[i] = lights.proxy(i, p);
+      dirs[i] = proxies[i].wi;
+    }
+    bsdf.f_cos(dirs, response);
+    for (std::size_t i = 0; i < n_; ++i) {
+      const LightProxy& lp = proxies[i];
+      const glm::vec3 c = lp.strength * (lp.directional ? response[i] : glm::vec3(kEnvironmentResponse));
+      (*weights_)[i] = 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
+    }
+    light_pick_pmf(*weights_, *pmf_);
+    estimated_ = true;
+  }
+  float prob(std::size_t i) const {
+    if (mode_ == LightPick::All) return 1.0f;
+    return estimated_ ? (*pmf_)[i] : 1.0f / float(n_);
+  }
+  std::size_t choose(float u) const {
+    if (estimated_) return pick_from_pmf(*pmf_, u);
+    return std::min(std::size_t(u * float(n_)), n_ - 1);
+  }
+
+ private:
+  std::size_t n_;
+  LightPick mode_;
+  bool estimated_ = false;
+  std::vector<float>*pmf_, *weights_;
 };
 
 }  // namespace
@@ -90,6 +174,8 @@ PathIntegrator::PathIntegrator(const Scene& scene, const LightSet& lights, const
 
 glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& counters) const {
   glm::vec3 L(0), beta(1);
+  const std::size_t n_lights = lights_.count();
+  LightChoice pick(n_lights, settings_.light_pick);  // the selection pmf at the last vertex (MIS needs it on a light hit)
   float prev_pdf = 0;      // pdf of the BCSDF sample that made `ray`
   bool from_camera = true; // no MIS for what the camera sees directly
   for (int depth = 0;; ++depth) {
@@ -101,14 +187,16 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
     const glm::vec3 origin = ray.o + ray.tnear * ray.d;
     const float surface_t = found ? hit.t - ray.tnear : std::numeric_limits<float>::infinity();
     if (auto lh = lights_.intersect_spheres(origin, ray.d, surface_t)) {
-      const float w = from_camera ? 1.0f : power_heuristic(prev_pdf, lh->pdf);
+      const float w = from_camera ? 1.0f : power_heuristic(prev_pdf, lh->pdf * pick.prob(lh->light));
       L += beta * lh->Le * w;
       break;
     }
     if (!found) {
       float pdf_env = 0;
       const glm::vec3 Le = lights_.environment_Le(ray.d, &pdf_env);
-      const float w = from_camera ? 1.0f : power_heuristic(prev_pdf, pdf_env);
+      const float w = from_camera || !(pdf_env > 0)
+                          ? 1.0f
+                          : power_heuristic(prev_pdf, pdf_env * pick.prob(lights_.environment_index()));
       L += beta * Le * w;
       break;
     }
@@ -122,21 +210,23 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
     if (hit.kind == HitKind::Backdrop) {
       bsdf = &diffuse.emplace(safe_normalize(hit.ng), wo, scene_.options().backdrop.albedo);
     } else {
-      bsdf = &fibre.emplace(fibre_frame_at(hit, wo), material_.at(hit.p), wo);
+      bsdf = &fibre.emplace(fibre_frame_at(hit, wo), material_.at(hit.p, scene_.structure_coverage(hit)), wo);
     }
 
-    // Next-event estimation: one light, one shadow ray.
+    // Next-event estimation (settings_.light_pick): one light chosen uniformly or
+    // by its estimate, or every light; one shadow ray each.
     const glm::vec4 ul = sampler.next4();
-    if (auto ls = lights_.sample(hit.p, ul.x, {ul.y, ul.z})) {
-      float pdf_bsdf = 0;
-      const glm::vec3 fc = bsdf->f_cos(ls->wi, &pdf_bsdf);
-      if (ls->pdf > 0 && (fc.x > 0 || fc.y > 0 || fc.z > 0)) {
-        Ray shadow = scene_.spawn(hit, ls->wi, ls->dist * (1.0f - 1e-4f));
-        ++counters.shadow_rays;
-        if (!scene_.occluded(shadow)) {
-          const float w = ls->delta ? 1.0f : power_heuristic(ls->pdf, pdf_bsdf);
-          L += beta * fc * ls->Le * (w / ls->pdf);
+    if (n_lights > 0) {
+      if (settings_.light_pick == LightPick::All) {
+        glm::vec4 u = ul;
+        for (std::size_t i = 0; i < n_lights; ++i) {
+          if (i > 0) u = sampler.next4();
+          L += beta * direct_light(scene_, lights_, hit, *bsdf, i, 1.0f, {u.y, u.z}, counters);
         }
+      } else {
+        if (settings_.light_pick == LightPick::Estimate) pick.estimate(lights_, hit.p, *bsdf);
+        const std::size_t i = pick.choose(ul.x);
+        L += beta * direct_light(scene_, lights_, hit, *bsdf, i, pick.prob(i), {ul.y, ul.z}, counters);
       }
     }
 

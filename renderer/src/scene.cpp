@@ -451,6 +451,14 @@ StructureSample Scene::ribbon_point(std::uint32_t prim, float u, const glm::vec3
   return ss;
 }
 
+float Scene::structure_coverage(const SurfaceHit& hit) const {
+  if (hit.kind != HitKind::Barb) return 1.0f;
+  if (options_.mode == ShadingMode::Explicit) return explicit_coverage_[barbs_.prims[hit.prim].curve];
+  if (options_.mode != ShadingMode::Substructure) return 1.0f;
+  const RibbonSegment& rs = ribbon_segments_[hit.prim];
+  return float(rs.vane->covered_fraction(rs.length));
+}
+
 StructureSample Scene::structure_at(const SurfaceHit& hit) const {
   // Proof that hair mode never reaches substructure code (skip_work_test).
   ++g_structure_lookups;
@@ -466,9 +474,16 @@ StructureSample Scene::structure_at(const SurfaceHit& hit) const {
 void Scene::build_explicit() {
   make_vanes("--shading explicit");
   ExplicitBarbs ex;
+  // The same coverage per barb as substructure mode gives its ribbon, so both modes
+  // take the same coverage-compensated albedo (structure_coverage) and compare fairly.
+  explicit_coverage_.assign(feather_.curves.size(), 1.0f);
   for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci)
-    if (feather_.curves[ci].kind == CurveKind::Barb && keep_[ci])
+    if (feather_.curves[ci].kind == CurveKind::Barb && keep_[ci]) {
       add_explicit_barb(feather_.curves[ci], ci, vane_of(ci), ex);
+      std::vector<glm::dvec3> pts;
+      for (const ControlPoint& cp : feather_.curves[ci].points) pts.emplace_back(cp.p);
+      explicit_coverage_[ci] = float(vane_of(ci).covered_fraction(arc_length(BSpline3(pts))));
+    }
   explicit_bytes_ = ex.bytes();
   g_explicit_curves += std::int64_t(ex.fibres.size());
   g_explicit_segments += std::int64_t(ex.segments());

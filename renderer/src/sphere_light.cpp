@@ -47,6 +47,15 @@ float sphere_light_pdf(const SphereLight& l, const glm::vec3& p) {
   return 1.0f / (2.0f * kPi * one_minus_cos_max(r2 / d2));
 }
 
+glm::vec3 sphere_light_irradiance(const SphereLight& l, const glm::vec3& p, const glm::vec3& n) {
+  const glm::vec3 to_c = l.centre - p;
+  const float d2 = glm::dot(to_c, to_c);
+  const float r2 = l.radius * l.radius;
+  if (!(d2 > r2)) return glm::vec3(0);
+  const float cos_t = glm::dot(to_c, n) / std::sqrt(d2);
+  return cos_t > 0 ? l.radiance * (kPi * r2 / d2 * cos_t) : glm::vec3(0);
+}
+
 std::optional<float> intersect_sphere(const SphereLight& l, const glm::vec3& o, const glm::vec3& d) {
   const glm::vec3 oc = l.centre - o;
   const float b = glm::dot(oc, d);

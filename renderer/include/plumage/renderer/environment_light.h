@@ -29,6 +29,8 @@ class EnvironmentLight {
   // Importance samples the image by luminance x sin(theta) (uniform sphere for a constant).
   EnvSample sample(const glm::vec2& u) const;
   float pdf(const glm::vec3& d) const;
+  // Luminance averaged over the sphere of directions.
+  float mean_luminance() const { return mean_luminance_; }
 
  private:
   glm::vec3 constant_{0};
@@ -37,6 +39,7 @@ class EnvironmentLight {
   std::vector<float> row_cdf_, col_cdf_;  // row_cdf_: H+1; col_cdf_: H x (W+1)
   std::vector<float> weight_;              // W x H, unnormalised
   float total_ = 0;
+  float mean_luminance_ = 0;
 };
 
 }  // namespace plumage

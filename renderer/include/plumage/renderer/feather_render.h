@@ -14,6 +14,7 @@
 #include "plumage/renderer/dome_rig.h"
 #include "plumage/renderer/hair_bcsdf.h"
 #include "plumage/renderer/light_set.h"
+#include "plumage/renderer/path_integrator.h"
 #include "plumage/renderer/sampler.h"
 #include "plumage/renderer/scene.h"
 
@@ -26,6 +27,9 @@ struct ViewSpec {
   SamplerKind sampler = SamplerKind::Sobol;
   int max_depth = 16;
   float exposure = 0;            // stops
+  // > 0: expose like a camera metered on the card instead: the backdrop's centre,
+  // lit by the selected LEDs, develops to this linear level (exposure is then ignored).
+  float card_level = 0;
   std::string lights = "all";    // dome LEDs that are on (parse_light_selection)
   std::optional<EnvironmentLight> environment;  // added to the LEDs
   std::vector<DirectionalLight> directional;    // added to the LEDs
@@ -38,6 +42,7 @@ struct ViewSpec {
   bool adaptive = false;         // RenderSettings: adaptive sampling, off by default
   float target_error = 0.02f;
   int min_spp = 16;
+  LightPick light_pick = IntegratorSettings{}.light_pick;  // next-event estimation's choice of light
 };
 
 // The lights of `view`: the rig's selected LEDs, the rig standing on the

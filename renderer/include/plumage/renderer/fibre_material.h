@@ -1,7 +1,7 @@
 #pragma once
 // What a fibre hit is made of: the hair BCSDF's roughness, tilt and index from the
 // command line, and an absorption sigma_a that comes from the feather's albedo
-// (constant, or its texture through the rect mapping; Chiang et al. 2016 eq. 9) or
+// (constant, or its texture through the rect mapping; AlbedoMapping says how) or
 // is given directly (e.g. from melanin concentrations).
 #include <filesystem>
 #include <optional>
@@ -32,18 +32,33 @@ class AlbedoMap {
   glm::vec2 rect_min_{0}, rect_max_{1};
 };
 
+// How an albedo becomes an absorption coefficient (docs/hair-bcsdf.md).
+enum class AlbedoMapping {
+  Layer,       // one layer of fibres over a white card looks `albedo` times the card (default)
+  Chiang2016,  // the albedo of a dense mass of hair under multiple scattering (Chiang et al. 2016 eq. 9)
+};
+
 class FibreMaterial {
  public:
   // Absorption from the albedo map.
-  FibreMaterial(const HairParams& params, AlbedoMap albedo);
+  FibreMaterial(const HairParams& params, AlbedoMap albedo, AlbedoMapping mapping = AlbedoMapping::Layer);
   // Absorption fixed to params.sigma_a everywhere.
   explicit FibreMaterial(const HairParams& params);
 
-  HairParams at(const glm::vec3& p) const;
+  // The fibre's parameters at p. `coverage` < 1: the fibre is one of structures
+  // that cover only that fraction of the area the albedo was measured over (the
+  // rest shows the card). A texture (taken from a photo) is such an area mean, so
+  // with AlbedoMapping::Layer the fibre takes the albedo 1 - (1 - A) / coverage,
+  // which makes the area's mean come out as A. A constant albedo (a preset's) is
+  // the fibres' own colour and is used as it is.
+  HairParams at(const glm::vec3& p, float coverage = 1.0f) const;
 
  private:
+  glm::vec3 sigma_a_from(const glm::vec3& albedo) const;
+
   HairParams params_;
   std::optional<AlbedoMap> albedo_;
+  AlbedoMapping mapping_ = AlbedoMapping::Layer;
   glm::vec3 constant_sigma_a_;
 };
 

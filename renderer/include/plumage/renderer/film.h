@@ -9,6 +9,10 @@
 
 namespace plumage {
 
+// The median luminance (Rec. 709, linear) of an image's outermost rows and
+// columns: the level of the card a photo was taken on. 0 for an empty image.
+float border_luminance(const Image& img);
+
 class Film {
  public:
   Film(int width, int height);

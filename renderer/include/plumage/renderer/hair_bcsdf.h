@@ -14,6 +14,7 @@
 // the tip) and TT/TRT toward +x. Model, clamps and references: docs/hair-bcsdf.md.
 #include <cmath>
 #include <optional>
+#include <span>
 #include <string_view>
 
 #include <glm/glm.hpp>
@@ -48,6 +49,15 @@ glm::vec3 sigma_a_from_melanin(float eumelanin, float pheomelanin);
 // Albedo channels are clamped to [1e-4, 1] (a texture may hold exact 0); beta_n to
 // [0.001, 1]; non-finite input throws plumage::Error.
 glm::vec3 sigma_a_from_albedo(const glm::vec3& albedo, float beta_n);
+// Absorption that makes one layer of fibres over a white card look `albedo` times
+// the card: light crossing a fibre on its way down to the card and again on its
+// way up keeps exp(-2 sigma_a c) = albedo, c the mean chord (radii) of the
+// refracted path across the fibre at normal incidence, averaged over the offset h:
+// c = eta (s sqrt(1 - s^2) + asin s), s = 1/eta (1.85 for keratin). Same clamps as
+// sigma_a_from_albedo; eta must be >= 1. docs/hair-bcsdf.md, "Albedo to absorption".
+glm::vec3 sigma_a_from_layer_albedo(const glm::vec3& albedo, float eta);
+// The mean chord c above, in fibre radii.
+float mean_normal_chord(float eta);
 
 struct BCSDFSample {
   glm::vec3 wi;     // sampled incident direction (local frame)
@@ -68,6 +78,9 @@ class HairBCSDF {
   // no direction can be produced. f and pdf are exactly f(wo, wi) and pdf(wo, wi).
   std::optional<BCSDFSample> sample(const glm::vec3& wo, const glm::vec2& u0, const glm::vec2& u1) const;
   float pdf(const glm::vec3& wo, const glm::vec3& wi) const;
+  // f(wo, wi[k]) * bcsdf_cos(wi[k]) for many wi and one wo, the wo-dependent terms
+  // computed once (next-event estimation weighs every light with it).
+  void f_cos(const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<glm::vec3> out) const;
 
   const HairParams& params() const { return p_; }
   float h() const { return h_; }

@@ -1,8 +1,13 @@
 #pragma once
 // The lights of a render: the dome's LEDs that are switched on (sphere lights),
-// directional lights and an optional environment. Next-event estimation picks one
-// light uniformly; lights that are off are simply not in the set.
+// directional lights and an optional environment; lights that are off are simply
+// not in the set. Light i is the i-th sphere, then the directional lights, then
+// the environment. How next-event estimation chooses among them (LightPick) is
+// the integrator's business; this class gives per-light sampling, pdfs, and the
+// estimates the integrator weighs its choice with (docs/rendering.md, "Lights").
 #include <optional>
+#include <span>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -23,9 +28,40 @@ struct LightSample {
   glm::vec3 wi;       // unit, toward the light
   float dist;         // distance to the emitter (infinity for distant lights)
   glm::vec3 Le;       // radiance (irradiance for a delta light)
-  float pdf;          // solid-angle pdf including the choice of the light; 1/count for delta lights
+  float pdf;          // solid-angle pdf of this light's own sampling (1 for delta lights)
   bool delta;         // cannot be hit by BCSDF sampling
 };
+
+// What a light delivers to a point, roughly, for weighing the choice of light:
+// an unoccluded estimate of its contribution is lum(f_cos(wi) * strength).
+struct LightProxy {
+  glm::vec3 wi{0, 0, 1};   // toward the light's centre (sphere, directional)
+  glm::vec3 strength{0};   // Le x solid angle (sphere), irradiance (directional), pi x mean Le (environment)
+  bool directional = true; // false for the environment: no single direction
+};
+
+// How next-event estimation chooses the light it sends a shadow ray to.
+enum class LightPick {
+  Uniform,   // one light, each with probability 1/count
+  Estimate,  // one light, in proportion to its unoccluded estimate (mixed with uniform)
+  All,       // every light, one shadow ray each
+};
+const char* to_string(LightPick pick);
+// "uniform", "estimate" or "all"; throws plumage::Error naming the choices otherwise.
+LightPick parse_light_pick(const std::string& name);
+
+// The part of the selection pmf that stays uniform, so every light keeps a
+// probability of at least kUniformPickShare / count whatever the estimates say
+// (an estimate at the light's centre can be zero where the light is not).
+inline constexpr float kUniformPickShare = 0.1f;
+
+// Fills `pmf` (same size as `estimates`) with (1 - s) w_i / sum(w) + s / n, s =
+// kUniformPickShare; uniform when the estimates sum to zero or are not finite.
+// Negative or non-finite estimates count as zero.
+void light_pick_pmf(std::span<const float> estimates, std::span<float> pmf);
+// The index whose cdf interval holds u in [0,1) (the last light with p > 0 for u
+// beyond a cdf that rounding left below 1).
+std::size_t pick_from_pmf(std::span<const float> pmf, float u);
 
 class LightSet {
  public:
@@ -37,19 +73,24 @@ class LightSet {
   bool empty() const { return count() == 0; }
   const std::vector<SphereLight>& spheres() const { return spheres_; }
   const EnvironmentLight* environment() const { return env_ ? &*env_ : nullptr; }
+  // Index of the environment among the lights (count() when there is none).
+  std::size_t environment_index() const { return env_ ? count() - 1 : count(); }
 
-  // One light chosen with u_pick, then a direction on it with u.
-  std::optional<LightSample> sample(const glm::vec3& p, float u_pick, const glm::vec2& u) const;
+  // A direction on light i as seen from p, sampled with u; pdf excludes the choice of light.
+  std::optional<LightSample> sample(std::size_t i, const glm::vec3& p, const glm::vec2& u) const;
+  LightProxy proxy(std::size_t i, const glm::vec3& p) const;
 
-  // The nearest sphere light along the ray closer than tmax: its radiance, distance
-  // and the pdf light sampling from `o` would have given that direction.
+  // The nearest sphere light along the ray closer than tmax: which, its radiance,
+  // distance and the pdf that sampling that light from `o` gives that direction.
   struct Hit {
+    std::size_t light;
     glm::vec3 Le;
     float t;
     float pdf;
   };
   std::optional<Hit> intersect_spheres(const glm::vec3& o, const glm::vec3& d, float tmax) const;
-  // Environment radiance along d and its light-sampling pdf (zero Le without an environment).
+  // Environment radiance along d and the pdf its own sampling gives d (zero Le
+  // without an environment).
   glm::vec3 environment_Le(const glm::vec3& d, float* pdf) const;
 
  private:

@@ -18,6 +18,8 @@ namespace plumage {
 struct IntegratorSettings {
   int max_depth = 16;  // scattering events; 1 = direct lighting only
   int rr_depth = 3;    // Russian roulette from this many bounces on
+  // How next-event estimation chooses its light (docs/rendering.md, "Lights").
+  LightPick light_pick = LightPick::Estimate;
 };
 
 // Per-thread tallies, added to the global StatCounters once per tile.

@@ -100,6 +100,10 @@ class Scene {
   // Explicit mode: the curves built (rami and barbules) and the bytes of their data.
   std::size_t explicit_curves() const { return explicit_fibres_.size(); }
   std::size_t explicit_bytes() const { return explicit_bytes_; }
+  // A barb hit: the fraction of its ribbon that rami and barbules cover
+  // (BarbSubstructure::covered_fraction), the same in substructure and explicit
+  // mode; 1 in hair mode.
+  float structure_coverage(const SurfaceHit& hit) const;
   const Feather& feather() const { return feather_; }
   const SceneOptions& options() const { return options_; }
   // Bounds of the feather's curves including radii (the backdrop is left out).
@@ -166,6 +170,7 @@ class Scene {
   std::vector<glm::vec3> barb_normals_;
   std::vector<ExplicitFibre> explicit_fibres_;  // explicit mode; control points live in barbs_
   std::size_t explicit_bytes_ = 0;
+  std::vector<float> explicit_coverage_;  // explicit mode: per feather curve, the ribbon coverage substructure mode gives it
   std::vector<char> keep_;  // per feather curve: in the BVH
   std::size_t culled_ = 0;
 };

@@ -26,6 +26,10 @@ struct SphereSample {
 std::optional<SphereSample> sample_sphere_light(const SphereLight& l, const glm::vec3& p, const glm::vec2& u);
 // The solid-angle pdf sample_sphere_light gives a direction that hits the sphere.
 float sphere_light_pdf(const SphereLight& l, const glm::vec3& p);
+// Irradiance at p on a surface of unit normal n: pi L sin^2(theta_max) cos(theta),
+// exact for a sphere wholly above the surface's horizon (the usual case: a small
+// LED far away); zero when the centre is below it or p is inside the sphere.
+glm::vec3 sphere_light_irradiance(const SphereLight& l, const glm::vec3& p, const glm::vec3& n);
 // Distance along a unit direction to the sphere's near side, or nullopt.
 std::optional<float> intersect_sphere(const SphereLight& l, const glm::vec3& o, const glm::vec3& d);
 
