@@ -168,6 +168,25 @@ TEST(LayoutToParams, UnsureValuesAreReplacedWithAWarning) {
               d.vane_length() / d.barb_count(VaneSide::Left), 0.05);
 }
 
+// The pink photo once gave the right vane two trusted spacing stations, 0.6 mm and
+// a 2.18 mm harmonic; the median of the two took the harmonic and the vane got 54
+// barbs against the left's 197. Too few trusted stations borrow the other side's.
+TEST(LayoutToParams, TwoTrustedSpacingStationsDoNotSetAVanesBarbCount) {
+  FeatherLayout f = known_layout();
+  std::fill(f.right.barb_spacing_confidence.begin(), f.right.barb_spacing_confidence.end(), 0.0);
+  f.right.barb_spacing_confidence[10] = f.right.barb_spacing_confidence[20] = 0.7;
+  f.right.barb_spacing_mm[20] = 3.6 * f.right.barb_spacing_mm[10];
+  const LayoutParams lp = layout_to_params(f, "harmonic.json");
+  EXPECT_TRUE(has_warning(lp.warnings, "right barb spacing")) << lp.warnings.size();
+  EXPECT_EQ(lp.params.barb_count(VaneSide::Right), lp.params.barb_count(VaneSide::Left));
+  // Three trusted stations are enough for the median to drop the outlier.
+  f.right.barb_spacing_confidence[15] = 0.7;
+  const LayoutParams three = layout_to_params(f, "harmonic.json");
+  EXPECT_FALSE(has_warning(three.warnings, "right barb spacing"));
+  EXPECT_NEAR(three.params.barb_count(VaneSide::Right), three.params.barb_count(VaneSide::Left),
+              0.02 * three.params.barb_count(VaneSide::Left));
+}
+
 TEST(LayoutToParams, ExtremeMeasurementsStayInTheGeneratorsRange) {
   FeatherLayout f = known_layout();
   for (auto* v : {&f.left, &f.right}) {

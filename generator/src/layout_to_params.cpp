@@ -154,12 +154,17 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
   std::optional<double> spacing[2];
   const VaneProfile* sides[2] = {&f.left, &f.right};
   const char* names[2] = {"left", "right"};
+  // A side's spacing is the median of its trusted stations, but only when there are
+  // enough of them for a median to reject an outlier: with one or two, a single
+  // harmonic mistaken for the period (twice the true spacing, say) would halve
+  // the barb count of the whole vane. Such a side borrows the other side's.
+  constexpr std::size_t kMinSpacingStations = 3;
   for (int s = 0; s < 2; ++s) {
     const auto sp = trusted(f.stations_t, sides[s]->barb_spacing_mm, sides[s]->barb_spacing_confidence);
     std::vector<double> values;
     for (const auto& q : sp)
       if (q.y > 0) values.push_back(q.y);
-    if (!values.empty()) spacing[s] = median(values);
+    if (values.size() >= kMinSpacingStations) spacing[s] = median(values);
   }
   for (int s = 0; s < 2; ++s) {
     const VaneProfile& v = *sides[s];
