@@ -165,7 +165,10 @@ Image render_top_view(Feather f, const View& v, bool dark, const StudyOptions& o
   lamp.to_light = glm::vec3(0.0f, 0.0f, 1.0f);
   lamp.irradiance = glm::vec3(3.0f);
   lights.add(lamp);
-  const FibreMaterial material(HairParams{}, AlbedoMap(f.albedo, "."));
+  // The study tests geometry, not colour: it keeps the albedo mapping its photos
+  // were tuned with (Chiang's dense-hair mapping; with the renderer's default layer
+  // mapping a feather on the black card is darker, so its faint vane edge is lost).
+  const FibreMaterial material(HairParams{}, AlbedoMap(f.albedo, "."), AlbedoMapping::Chiang2016);
   IntegratorSettings is;
   is.max_depth = o.max_depth;
   const PathIntegrator integrator(scene, lights, material, is);
