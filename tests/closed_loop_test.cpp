@@ -54,14 +54,6 @@ void write_report(const fs::path& dir, const std::vector<CaseResult>& rs, const 
     write_image(dir / ("closed-loop-" + std::to_string(n++) + ".jpg"), half_size(rs[i].overlay));
 }
 
-// Cases whose barb spacing misses the 5 % bound with the analysis as it is:
-// the spacing along lines parallel to the shaft picks up a longer period where
-// the barbs bunch (feather 12 on white: a ~1.7-barb period; feather 6 on white:
-// 5.1 %). The other four errors are held to the bounds for them too.
-bool is_known_spacing_miss(const CaseResult& r) {
-  return !r.dark && (r.feather == 6 || r.feather == 12);
-}
-
 }  // namespace
 
 TEST(ClosedLoop, TwentyRenderedFeathersOnWhiteAndBlackMeetTheBounds) {
@@ -77,15 +69,7 @@ TEST(ClosedLoop, TwentyRenderedFeathersOnWhiteAndBlackMeetTheBounds) {
                  " (" + r.summary + "), " + r.photo.string());
     EXPECT_LE(r.shaft, b.shaft);
     EXPECT_LE(r.angle_deg, b.angle_deg);
-    if (is_known_spacing_miss(r)) {
-      // Open (docs/analysis.md, "Closed-loop accuracy"): held to a guard only,
-      // and reported; remove from the list once the bound is met.
-      EXPECT_LE(r.spacing, 3 * b.spacing);
-      std::printf("known miss: feather %d on %s, spacing error %.1f%% (bound %.0f%%)\n", r.feather,
-                  r.dark ? "black" : "white", 100 * r.spacing, 100 * b.spacing);
-    } else {
-      EXPECT_LE(r.spacing, b.spacing);
-    }
+    EXPECT_LE(r.spacing, b.spacing);
     EXPECT_LE(r.width, b.width);
     EXPECT_GE(r.iou, b.iou);
     // Enough compared stations that a median means something.

@@ -12,6 +12,13 @@ namespace plumage::analysis {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// Spacing is read on lines out to this fraction of the vane's width. A barb
+// that leaves the shaft a little steeper or flatter than its neighbours crosses
+// a line at offset o displaced by o times the change of cot(theta), which at
+// small angles (1/sin^2 theta ~ 5 at 25 deg) outgrows the spacing itself in the
+// outer vane: there the barbs meet in pairs and the periodogram peaks near two
+// barbs (closed-loop study, feather 12). Nearer the shaft they are still even.
+constexpr double kSpacingOuter = 0.45;
 
 struct Unrolled {
   cv::Mat gray;  // CV_32F
@@ -76,7 +83,7 @@ void spacing(const Unrolled& U, int j0, int j1, int side, double w, double shaft
   std::vector<double> power(nf, 0.0);
   const int hp = std::max(3, int(pmax / 2));
   int used = 0;
-  const int inner = int(std::max(shaft_w, 0.15 * w)), outer = int(0.6 * w);
+  const int inner = int(std::max(shaft_w, 0.15 * w)), outer = int(kSpacingOuter * w);
   const int step = std::max(1, (outer - inner) / 12);
   for (int o = inner; o <= outer; o += step) {
     const int col = U.R + side * o;
@@ -270,7 +277,7 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
       spacing(U, std::max(0, c - hw), std::min(L, c + hw + 1), side, w, shaft_width_px, p, pc);
       S.spacing_px.push_back(p > 0 ? p : NAN);
       S.spacing_conf.push_back(pc);
-      offsets[side > 0].push_back(0.5 * (std::max(shaft_width_px, 0.15 * w) + 0.6 * w));
+      offsets[side > 0].push_back(0.5 * (std::max(shaft_width_px, 0.15 * w) + kSpacingOuter * w));
     }
   }
   const double station_rows = double(L - 1) / stations;
