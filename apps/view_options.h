@@ -56,6 +56,7 @@ struct ViewOptions {
   int max_depth = 16;
   float exposure = 0;
   std::string lights = "all";
+  std::string light_pick = to_string(IntegratorSettings{}.light_pick);
   std::string rig = std::string(PLUMAGE_DATA_DIR) + "/rigs/dome25.json";
   std::string backdrop = "white";
   int threads = 0;
@@ -81,6 +82,10 @@ struct ViewOptions {
     app.add_option("--max-depth", max_depth, "Maximum scattering events per path (1 = direct light only)")->capture_default_str();
     app.add_option("--exposure", exposure, "Exposure in stops: pixels are scaled by 2^exposure")->capture_default_str();
     app.add_option("--lights", lights, lights_help)->capture_default_str();
+    app.add_option("--light-pick", light_pick,
+                   "Next-event estimation's choice of light: estimate (in proportion to each light's "
+                   "estimated contribution), uniform, or all (every light at every vertex); docs/rendering.md")
+        ->capture_default_str();
     app.add_option("--rig", rig, "Light rig JSON file")->capture_default_str();
     app.add_option("--backdrop", backdrop, "Card under the feather: white (albedo 0.8), black (0.03) or none")->capture_default_str();
     app.add_option("--threads", threads, "Worker threads (0 = all cores)")->capture_default_str();
@@ -108,6 +113,7 @@ struct ViewOptions {
     v.max_depth = max_depth;
     v.exposure = exposure;
     v.lights = lights;
+    v.light_pick = parse_light_pick(light_pick);
     v.threads = threads;
     v.progress = progress;
     v.base_dir = curve_file.parent_path();

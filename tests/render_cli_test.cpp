@@ -61,6 +61,7 @@ TEST(RenderCli, BadInputFailsWithOneLineNamingTheProblem) {
       {(dir / "missing.fcurves").string() + " -o " + out, "missing.fcurves"},
       {in + " -o " + out + " --lights 26", "--lights"},
       {in + " -o " + out + " --resolution 12by8", "--resolution"},
+      {in + " -o " + out + " --light-pick nearest", "--light-pick"},
   };
   for (const Case& c : cases) {
     const CliRun r = plumage_render(c.args + " --resolution 8x8 --spp 1");
@@ -68,4 +69,24 @@ TEST(RenderCli, BadInputFailsWithOneLineNamingTheProblem) {
     EXPECT_NE(r.err.find(c.must_mention), std::string::npos) << c.args << "\n" << r.err;
     EXPECT_FALSE(fs::exists(out)) << c.args;
   }
+}
+
+// --light-pick reaches the renderer (the images differ) and only changes the
+// estimator, not what it estimates (the image means agree).
+TEST(RenderCli, LightPickChangesTheNoiseNotTheImage) {
+  const fs::path dir = setup_dir();
+  const std::string in = (dir / "feather.fcurves").string();
+  double mean[3] = {};
+  Image img[3];
+  const char* picks[3] = {"uniform", "estimate", "all"};
+  for (int i = 0; i < 3; ++i) {
+    const fs::path out = dir / (std::string(picks[i]) + ".exr");
+    const CliRun r = plumage_render(in + " -o " + out.string() + " --spp 64 --resolution 24x16 --threads 2 --light-pick " + picks[i]);
+    ASSERT_EQ(r.rc, 0) << r.err;
+    img[i] = read_image(out);
+    for (float v : img[i].pixels) mean[i] += v;
+    mean[i] /= double(img[i].pixels.size());
+  }
+  EXPECT_NE(img[0].pixels, img[2].pixels);
+  for (int i = 1; i < 3; ++i) EXPECT_NEAR(mean[i], mean[0], 0.05 * mean[0]) << picks[i];
 }
