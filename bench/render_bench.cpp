@@ -12,6 +12,7 @@
 #include "plumage/generator/builder.h"
 #include "plumage/generator/presets.h"
 #include "plumage/common/stats.h"
+#include "plumage/renderer/feather_render.h"
 #include "plumage/renderer/dome_rig.h"
 #include "plumage/renderer/render.h"
 
@@ -85,13 +86,22 @@ double mean_squared_error(const Image& img, const Image& reference) {
   return s / double(img.pixels.size());
 }
 
+// RMSE against `reference` of renders with seeds 0, 1, 2, ... (one per iteration).
+double rmse_over_seeds(benchmark::State& state, const Camera& camera, const PathIntegrator& integrator,
+                       RenderSettings rs, const Image& reference) {
+  double se = 0;
+  int runs = 0;
+  for (auto _ : state) {
+    rs.seed = std::uint64_t(runs++);
+    se += mean_squared_error(render(camera, integrator, rs).developed(0), reference);
+  }
+  return std::sqrt(se / runs);
+}
+
+// All 25 dome LEDs, placed as every render places them (view_lights).
 LightSet dome_all(const Scene& scene) {
-  const DomeRig rig = read_dome_rig(std::string(PLUMAGE_DATA_DIR) + "/rigs/dome25.json");
-  const AxisBox& fb = scene.feather_bounds();
-  LightSet lights;
-  for (const SphereLight& l : dome_lights(rig, parse_light_selection("all", 25), {fb.centre().x, fb.centre().y, fb.lo.z}))
-    lights.add(l);
-  return lights;
+  return view_lights(scene.feather_bounds(), read_dome_rig(std::string(PLUMAGE_DATA_DIR) + "/rigs/dome25.json"),
+                     ViewSpec{});
 }
 
 // Whole-image path tracing (1 thread so the figure is per core): rays = camera,
@@ -135,13 +145,7 @@ void BM_SamplerRMSE(benchmark::State& state) {
   rs.spp = int(state.range(0));
   rs.sampler = state.range(1) == 0 ? SamplerKind::Sobol : SamplerKind::Independent;
   rs.progress = false;
-  double se = 0;
-  int runs = 0;
-  for (auto _ : state) {
-    rs.seed = std::uint64_t(runs++);
-    se += mean_squared_error(render(camera, integrator, rs).developed(0), reference);
-  }
-  state.counters["rmse"] = std::sqrt(se / runs);
+  state.counters["rmse"] = rmse_over_seeds(state, camera, integrator, rs, reference);
   state.SetLabel(rs.sampler == SamplerKind::Sobol ? "sobol" : "independent");
 }
 BENCHMARK(BM_SamplerRMSE)
@@ -179,13 +183,7 @@ void BM_LightPickRMSE(benchmark::State& state) {
   rs.spp = int(state.range(0));
   rs.threads = 1;
   rs.progress = false;
-  double se = 0;
-  int runs = 0;
-  for (auto _ : state) {
-    rs.seed = std::uint64_t(runs++);
-    se += mean_squared_error(render(camera, pi, rs).developed(0), reference);
-  }
-  state.counters["rmse"] = std::sqrt(se / runs);
+  state.counters["rmse"] = rmse_over_seeds(state, camera, pi, rs, reference);
   state.SetLabel(to_string(pick));
 }
 BENCHMARK(BM_LightPickRMSE)

@@ -69,8 +69,8 @@ std::size_t ExplicitBarbs::bytes() const {
   return control_points.size() * sizeof(glm::vec4) + segments() * sizeof(std::uint32_t);
 }
 
-void add_explicit_barb(const Curve& barb, std::uint32_t barb_index, const BarbSubstructure& vane,
-                       ExplicitBarbs& out) {
+double add_explicit_barb(const Curve& barb, std::uint32_t barb_index, const BarbSubstructure& vane,
+                         ExplicitBarbs& out) {
   const SubstructureParams& p = vane.params();
   std::vector<glm::dvec3> centre, normals;
   for (const ControlPoint& cp : barb.points) {
@@ -86,11 +86,11 @@ void add_explicit_barb(const Curve& barb, std::uint32_t barb_index, const BarbSu
     f.num_cp = std::uint32_t(centre.size());
     out.fibres.push_back(f);
   }
-  if (!has_barbules(p)) return;
-  const BSpline3 spline(centre), normal(normals);
+  const BSpline3 spline(centre);
   const ArcLengthTable table(spline);
   const double length = table.length();
-  if (!(length > 0)) return;
+  if (!has_barbules(p) || !(length > 0)) return length;
+  const BSpline3 normal(normals);
 
   const double reach = barbule_reach(p);
   const double sin_theta = std::sin(double(p.elevation_deg) * kDegToRad);
@@ -126,6 +126,7 @@ void add_explicit_barb(const Curve& barb, std::uint32_t barb_index, const BarbSu
       add_fibre(start.structure, barb_index, pts, p.barbule_radius, out);
     }
   }
+  return length;
 }
 
 std::size_t explicit_curve_count(const Feather& feather) {

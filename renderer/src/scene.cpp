@@ -479,10 +479,8 @@ void Scene::build_explicit() {
   explicit_coverage_.assign(feather_.curves.size(), 1.0f);
   for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci)
     if (feather_.curves[ci].kind == CurveKind::Barb && keep_[ci]) {
-      add_explicit_barb(feather_.curves[ci], ci, vane_of(ci), ex);
-      std::vector<glm::dvec3> pts;
-      for (const ControlPoint& cp : feather_.curves[ci].points) pts.emplace_back(cp.p);
-      explicit_coverage_[ci] = float(vane_of(ci).covered_fraction(arc_length(BSpline3(pts))));
+      const double length = add_explicit_barb(feather_.curves[ci], ci, vane_of(ci), ex);
+      explicit_coverage_[ci] = float(vane_of(ci).covered_fraction(length));
     }
   explicit_bytes_ = ex.bytes();
   g_explicit_curves += std::int64_t(ex.fibres.size());

@@ -47,9 +47,9 @@ inline constexpr int kHookSegments = 4;
 
 // Appends the ramus and barbules of feather curve `barb_index` (a barb of `vane`'s
 // side) to `out`. Barbules of zero radius or zero length are left out; a barb of
-// zero length gets its ramus only.
-void add_explicit_barb(const Curve& barb, std::uint32_t barb_index, const BarbSubstructure& vane,
-                       ExplicitBarbs& out);
+// zero length gets its ramus only. Returns the barb's arc length (mm).
+double add_explicit_barb(const Curve& barb, std::uint32_t barb_index, const BarbSubstructure& vane,
+                         ExplicitBarbs& out);
 
 // How many curves explicit mode makes for `feather` (rami plus barbules), without
 // building them: sum over barbs of 1 + 2N (N of the barb's vane; 0 when r_b is 0).
