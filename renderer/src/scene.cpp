@@ -344,9 +344,15 @@ bool Scene::occluded(const Ray& ray) const {
 // leaving a barb would then pass through a neighbouring barb that touches it, and
 // light would leak between barbs. So the ray starts a distance D (more than twice
 // the largest barb radius) *behind* the hit point with tnear = D: everything at or
-// beyond the hit point lies farther than 2r from the origin and is found. The fibre
-// the ray left is skipped (context filter) until it is past that fibre's diameter,
-// since the fibre's BCSDF already accounts for light crossing it.
+// beyond the hit point lies farther than 2r from the origin and is found.
+//
+// The fibre the ray left is skipped (context filter) until the ray is out of it,
+// since the fibre's BCSDF already accounts for light crossing it (DESIGN §4). A
+// round fibre, and a ray-facing ribbon (which Embree turns to face every ray, so it
+// lies within the same tube), holds the ray for up to 2r / cos(theta), theta its
+// angle to the fibre's normal plane: the skip runs to the exit from the tube around
+// the fibre's tangent line at the hit (tube_exit_distance), never less than 2r. A
+// normal-oriented ribbon lies in the vane, so a ray leaves it at once.
 Ray Scene::spawn(const SurfaceHit& from, const glm::vec3& d, float tmax) const {
   const float scale = std::max({std::fabs(scene_bounds_.lo.x), std::fabs(scene_bounds_.lo.y),
                                 std::fabs(scene_bounds_.lo.z), std::fabs(scene_bounds_.hi.x),
@@ -362,10 +368,18 @@ Ray Scene::spawn(const SurfaceHit& from, const glm::vec3& d, float tmax) const {
   if (from.kind == HitKind::Backdrop) {
     r.skip_curve = from.prim;
     r.skip_until = D + 4 * eps;
-  } else {
-    r.skip_curve = curve_geometry(from.geom)->prims[from.prim].fibre;
-    r.skip_until = D + 2.05f * curve_point(from).radius + 4 * eps;
+    return r;
   }
+  r.skip_curve = curve_geometry(from.geom)->prims[from.prim].fibre;
+  const CurvePoint cp = curve_point(from);
+  float inside = 2.05f * cp.radius;
+  const bool in_vane = from.kind == HitKind::Barb && options_.mode == ShadingMode::Substructure;
+  if (!in_vane) {
+    // 2 % on the radius covers the tube's bend over the few radii the ray crosses.
+    const float exit = tube_exit_distance(from.p, d, cp.p, cp.dp, 1.02f * cp.radius + eps);
+    inside = std::max(inside, exit);
+  }
+  r.skip_until = D + inside + 4 * eps;
   return r;
 }
 
