@@ -8,7 +8,7 @@
 using namespace plumage;
 
 namespace {
-const AxisBox kBox{{-10, 0, -1}, {10, 60, 1}};
+const Bounds3f kBox{{-10, 0, -1}, {10, 60, 1}};
 
 // Where the ray through (x, y) meets the plane z = 0.
 glm::vec3 on_plane(const Camera& c, float x, float y) {

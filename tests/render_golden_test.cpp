@@ -28,7 +28,7 @@ Image render_under_dome(const std::string& led_selection, std::uint64_t seed = 1
   static const Feather feather = build_feather(load_preset("rock-dove-wing"), 1, "preset:rock-dove-wing");
   const Scene scene(feather, so);
   const DomeRig rig = read_dome_rig(fs::path(PLUMAGE_DATA_DIR) / "rigs/dome25.json");
-  const AxisBox& fb = scene.feather_bounds();
+  const Bounds3f& fb = scene.feather_bounds();
   LightSet lights;
   for (const SphereLight& l : dome_lights(rig, parse_light_selection(led_selection, 25),
                                           {fb.centre().x, fb.centre().y, fb.lo.z}))

@@ -49,7 +49,7 @@ double mean(const Image& img) {
 
 // A close top view of part of the vane: most barbs are out of the frame.
 ViewSpec zoomed_view(const Scene& full) {
-  const AxisBox& fb = full.feather_bounds();
+  const Bounds3f& fb = full.feather_bounds();
   ViewSpec v;
   v.width = 24;
   v.height = 24;
@@ -106,7 +106,7 @@ TEST(SkipWork, CullingKeepsEverythingWhenAllIsInViewOrUnbounded) {
   const Camera camera(zoom.camera, zoom.width, zoom.height, full.feather_bounds());
   LightSet env;
   env.set_environment(EnvironmentLight(glm::vec3(1)));
-  const AxisBox far{glm::vec3(1e4f), glm::vec3(1e4f + 1)};
+  const Bounds3f far{glm::vec3(1e4f), glm::vec3(1e4f + 1)};
   EXPECT_TRUE(view_cull(camera, env, full.feather_bounds(), full.feather_bounds().lo.z)(far));
   // A light level with the feather's top: no bound on the shadow's run either.
   LightSet low;
@@ -121,12 +121,12 @@ TEST(SkipWork, CullRuleKeepsShadowCastersAboveTheView) {
   cs.position = glm::vec3(0, 0, 100);
   cs.look_at = glm::vec3(0);
   cs.ortho_height = 10;
-  const AxisBox fb{glm::vec3(-100, -100, 0), glm::vec3(100, 100, 10)};
+  const Bounds3f fb{glm::vec3(-100, -100, 0), glm::vec3(100, 100, 10)};
   const Camera camera(cs, 10, 10, fb);
   LightSet lights;  // one LED straight up, 50 mm over the floor, radius 1
   lights.add(SphereLight{glm::vec3(0, 0, 50), 1.0f, glm::vec3(1)});
   const CurveKeep keep = view_cull(camera, lights, fb, 0.0f, 0.0f);
-  auto box = [](float x, float z) { return AxisBox{glm::vec3(x, -0.1f, z), glm::vec3(x + 0.2f, 0.1f, z + 0.2f)}; };
+  auto box = [](float x, float z) { return Bounds3f{glm::vec3(x, -0.1f, z), glm::vec3(x + 0.2f, 0.1f, z + 0.2f)}; };
   EXPECT_TRUE(keep(box(0, 5)));     // in view
   EXPECT_FALSE(keep(box(30, 0)));   // far outside, on the floor: casts nowhere
   // Shadow ray from the view's corner (5, 5, 0) to the LED's far side: run
@@ -138,7 +138,7 @@ TEST(SkipWork, CullRuleKeepsShadowCastersAboveTheView) {
   // of the floor or the slab to any point of the light.
   for (int i = 0; i < 2000; ++i) {
     const float x = 6 + 20 * float(i % 40) / 40, z = 10 * float(i / 40) / 50;
-    const AxisBox b = box(x, z);
+    const Bounds3f b = box(x, z);
     if (keep(b)) continue;
     for (float px : {-5.0f, 0.0f, 5.0f})
       for (float pz : {0.0f, 5.0f, 10.0f})

@@ -8,7 +8,7 @@
 
 namespace plumage {
 
-Camera::Camera(const CameraSpec& spec, int width, int height, const AxisBox& fb)
+Camera::Camera(const CameraSpec& spec, int width, int height, const Bounds3f& fb)
     : proj_(spec.projection), width_(width), height_(height) {
   if (width <= 0 || height <= 0 || width > 65536 || height > 65536)
     throw Error("resolution " + std::to_string(width) + "x" + std::to_string(height) +

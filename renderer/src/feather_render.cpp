@@ -21,7 +21,7 @@ float exposure_for(const Scene& scene, const LightSet& lights, const ViewSpec& v
 }
 }  // namespace
 
-LightSet view_lights(const AxisBox& fb, const DomeRig& rig, const ViewSpec& view) {
+LightSet view_lights(const Bounds3f& fb, const DomeRig& rig, const ViewSpec& view) {
   LightSet lights;
   for (const SphereLight& l : dome_lights(rig, parse_light_selection(view.lights, int(rig.leds.size())),
                                           {fb.centre().x, fb.centre().y, fb.lo.z}))
@@ -32,7 +32,7 @@ LightSet view_lights(const AxisBox& fb, const DomeRig& rig, const ViewSpec& view
 }
 
 Image render_view(const Scene& scene, const DomeRig& rig, const ViewSpec& view) {
-  const AxisBox& fb = scene.feather_bounds();
+  const Bounds3f& fb = scene.feather_bounds();
   const LightSet lights = view_lights(fb, rig, view);
   validate(view.hair, "--beta-m/--beta-n/--alpha/--eta");
   const FibreMaterial material = [&] {

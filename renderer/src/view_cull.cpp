@@ -10,12 +10,21 @@ namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 CurveKeep keep_all() {
-  return [](const AxisBox&) { return true; };
+  return [](const Bounds3f&) { return true; };
 }
 
 }  // namespace
 
-CurveKeep view_cull(const Camera& camera, const LightSet& lights, const AxisBox& fb, float floor_z, float margin) {
+std::vector<char> keep_curves(const SceneCull& cull, std::span<const Bounds3f> curve_boxes,
+                              const Bounds3f& feather_bounds, float floor_z) {
+  std::vector<char> keep(curve_boxes.size(), 1);
+  if (!cull) return keep;
+  const CurveKeep keep_box = cull(feather_bounds, floor_z);
+  for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = keep_box(curve_boxes[i]) ? 1 : 0;
+  return keep;
+}
+
+CurveKeep view_cull(const Camera& camera, const LightSet& lights, const Bounds3f& fb, float floor_z, float margin) {
   const float top = fb.hi.z;
   if (lights.environment() || !(margin >= 0)) return keep_all();
 
@@ -50,14 +59,14 @@ CurveKeep view_cull(const Camera& camera, const LightSet& lights, const AxisBox&
   // Directional lights are not exposed by LightSet; count() tells if there are any.
   if (lights.count() != lights.spheres().size()) return keep_all();
 
-  return [lo, hi, slope, floor_z](const AxisBox& b) {
+  return [lo, hi, slope, floor_z](const Bounds3f& b) {
     const float reach = slope * std::max(0.0f, b.hi.z - floor_z);
     return b.hi.x >= lo.x - reach && b.lo.x <= hi.x + reach && b.hi.y >= lo.y - reach && b.lo.y <= hi.y + reach;
   };
 }
 
 SceneCull view_cull_for(const ViewSpec& view, const DomeRig& rig, float margin) {
-  return [view, rig, margin](const AxisBox& fb, float floor_z) {
+  return [view, rig, margin](const Bounds3f& fb, float floor_z) {
     // The camera and the lights render_view() will use.
     const Camera camera(view.camera, view.width, view.height, fb);
     return view_cull(camera, view_lights(fb, rig, view), fb, floor_z, margin);

@@ -17,6 +17,8 @@
 
 #include <glm/glm.hpp>
 
+#include "plumage/common/bounds.h"
+
 namespace plumage {
 
 // The four uniform cubic B-spline basis functions and their derivatives at u.
@@ -33,14 +35,6 @@ struct CubicBSplineBasis {
   static std::array<double, 4> deriv2(double u) {
     return {1.0 - u, 3 * u - 2, -3 * u + 1, u};
   }
-};
-
-// Axis-aligned box of a 3D curve.
-struct Bounds3 {
-  glm::dvec3 lo{std::numeric_limits<double>::infinity()};
-  glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
-  void extend(const glm::dvec3& p) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
-  bool empty() const { return lo.x > hi.x; }
 };
 
 // T is float, double, or a glm vector (vec2/vec3/vec4, float or double).

@@ -27,7 +27,7 @@ class Camera {
  public:
   // Throws plumage::Error for a degenerate spec (position == look_at, up parallel
   // to the view direction, fov outside (0, 180), bad resolution).
-  Camera(const CameraSpec& spec, int width, int height, const AxisBox& feather_bounds);
+  Camera(const CameraSpec& spec, int width, int height, const Bounds3f& feather_bounds);
 
   // Ray through film position (x, y) in pixels, (0,0) the top-left corner.
   Ray generate(float x, float y) const;

@@ -48,7 +48,7 @@ struct ViewSpec {
 // The lights of `view`: the rig's selected LEDs, the rig standing on the
 // feather's lowest point (as in the photographs), then the view's environment
 // and directional lights. Throws plumage::Error for a bad LED selection.
-LightSet view_lights(const AxisBox& feather_bounds, const DomeRig& rig, const ViewSpec& view);
+LightSet view_lights(const Bounds3f& feather_bounds, const DomeRig& rig, const ViewSpec& view);
 
 // Renders `scene` under `rig` as `view` says and returns the image scaled by
 // 2^exposure. Throws plumage::Error for bad settings (see render(), Camera).

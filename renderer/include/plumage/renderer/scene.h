@@ -5,6 +5,12 @@
 // their rami and barbules, real round curves (explicit mode, explicit_geometry.h),
 // and an optional backdrop card under the feather. Keeps, per Embree primitive, the
 // feather curve and segment it came from so a hit can be shaded.
+//
+// The implementation is spread by concern: scene.cpp builds the curves,
+// scene_queries.cpp answers rays and spawns secondary ones, substructure_scene.cpp
+// holds substructure mode's ribbons and gap filter, explicit_scene.cpp explicit
+// mode's curves, backdrop.cpp the card, embree_device.cpp the shared device, and
+// view_cull.cpp the rule that leaves curves out.
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -13,64 +19,27 @@
 
 #include <glm/glm.hpp>
 
+#include "plumage/common/bounds.h"
 #include "plumage/common/feather.h"
+#include "plumage/renderer/backdrop.h"
 #include "plumage/renderer/explicit_geometry.h"
 #include "plumage/renderer/ray.h"
 #include "plumage/renderer/shading_mode.h"
 #include "plumage/renderer/substructure.h"
+#include "plumage/renderer/surface_hit.h"
 
 namespace plumage {
 
-struct BackdropSpec {
-  bool enabled = false;
-  glm::vec3 albedo{0.8f};   // white paper ~0.8, black card ~0.03
-  float extent = 3.0f;       // card side = extent x the feather's larger side
-};
-
-struct AxisBox;
 // Whether a curve, given its bounding box (radius included), goes into the BVH.
-using CurveKeep = std::function<bool(const AxisBox& curve_box)>;
+using CurveKeep = std::function<bool(const Bounds3f& curve_box)>;
 // Makes the keep test once the scene knows the feather's bounds and the lowest z
 // anything can be seen at (the backdrop's, or the feather's bottom). See view_cull.h.
-using SceneCull = std::function<CurveKeep(const AxisBox& feather_bounds, float floor_z)>;
+using SceneCull = std::function<CurveKeep(const Bounds3f& feather_bounds, float floor_z)>;
 
 struct SceneOptions {
   ShadingMode mode = ShadingMode::Hair;
   BackdropSpec backdrop;
   SceneCull cull{};  // empty = every curve is built (culling is off by default)
-};
-
-enum class HitKind { None, Shaft, Barb, Backdrop };
-
-struct SurfaceHit {
-  HitKind kind = HitKind::None;
-  float t = 0;
-  glm::vec3 p{0};              // hit point (world, mm)
-  glm::vec3 ng{0, 0, 1};       // Embree's geometric normal (unnormalised)
-  float u = 0, v = 0;          // Embree's hit coordinates (curves: u within the segment)
-  std::uint32_t geom = kNoId;
-  std::uint32_t prim = kNoId;
-  std::uint32_t curve = kNoId; // index into Feather::curves (fibres only; explicit mode: the barb)
-};
-
-// The centreline of a curve segment at local u: position, unnormalised tangent, radius.
-struct CurvePoint {
-  glm::vec3 p, dp;
-  float radius;
-};
-
-// Substructure mode: where a barb hit lies on its ribbon and what is there.
-struct StructureSample {
-  double s = 0, w = 0;   // arc length along the barb from its root; offset along b (mm)
-  Frame barb;            // the barb's frame (t, b = n x t, n the vane normal) at the hit
-  StructureHit hit;      // G_b (Algorithm 1)
-  Frame frame;           // the structure's shading frame (Algorithm 2)
-};
-
-struct AxisBox {
-  glm::vec3 lo{0}, hi{0};
-  glm::vec3 centre() const { return 0.5f * (lo + hi); }
-  glm::vec3 size() const { return hi - lo; }
 };
 
 class Scene {
@@ -107,8 +76,8 @@ class Scene {
   const Feather& feather() const { return feather_; }
   const SceneOptions& options() const { return options_; }
   // Bounds of the feather's curves including radii (the backdrop is left out).
-  const AxisBox& feather_bounds() const { return bounds_; }
-  const AxisBox& scene_bounds() const { return scene_bounds_; }
+  const Bounds3f& feather_bounds() const { return bounds_; }
+  const Bounds3f& scene_bounds() const { return scene_bounds_; }
   float backdrop_z() const { return backdrop_z_; }
   float max_barb_radius() const { return max_barb_radius_; }
   // Curves left out of the BVH by SceneOptions::cull.
@@ -159,7 +128,7 @@ class Scene {
   std::unique_ptr<Embree> rtc_;
   CurveGeometry shaft_, barbs_;
   std::uint32_t backdrop_id_ = kNoId;
-  AxisBox bounds_, scene_bounds_;
+  Bounds3f bounds_, scene_bounds_;
   float backdrop_z_ = 0;
   float max_barb_radius_ = 0;
   float render_radius(const Curve& c, const ControlPoint& cp) const;

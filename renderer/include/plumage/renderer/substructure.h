@@ -30,6 +30,14 @@ struct StructureHit {
   float hook = 0;
 };
 
+// Substructure mode: where a barb hit lies on its ribbon and what is there.
+struct StructureSample {
+  double s = 0, w = 0;   // arc length along the barb from its root; offset along b (mm)
+  Frame barb;            // the barb's frame (t, b = n x t, n the vane normal) at the hit
+  StructureHit hit;      // G_b (Algorithm 1)
+  Frame frame;           // the structure's shading frame (Algorithm 2)
+};
+
 // The substructure of the barbs of one vane: its parameters, validated, and the
 // trigonometry they need, precomputed once.
 class BarbSubstructure {

@@ -3,6 +3,9 @@
 // shadow anything it sees (docs/skip-work.md states the rule). Off by default:
 // light a culled curve would have bounced into the view is lost, so it is an
 // approximation for scenes lit mostly directly.
+#include <span>
+#include <vector>
+
 #include "plumage/renderer/camera.h"
 #include "plumage/renderer/dome_rig.h"
 #include "plumage/renderer/feather_render.h"
@@ -17,8 +20,13 @@ namespace plumage {
 // largest horizontal-per-vertical run of a shadow ray toward any light that is on.
 // Keeps everything when the bound does not exist (an environment, a light at or
 // below the feather's top, a camera inside or below the slab).
-CurveKeep view_cull(const Camera& camera, const LightSet& lights, const AxisBox& feather_bounds, float floor_z,
+CurveKeep view_cull(const Camera& camera, const LightSet& lights, const Bounds3f& feather_bounds, float floor_z,
                     float margin = 0.1f);
+
+// Applies a SceneOptions::cull (empty: keep everything) to the curves' boxes: per
+// curve, 1 when it goes into the BVH.
+std::vector<char> keep_curves(const SceneCull& cull, std::span<const Bounds3f> curve_boxes,
+                              const Bounds3f& feather_bounds, float floor_z);
 
 // SceneOptions::cull for the view render_view() will draw: the same camera and
 // lights (view_lights(); an environment or a directional light keeps every curve).

@@ -1,0 +1,33 @@
+#pragma once
+// What the files implementing Scene share about Embree (private to the renderer):
+// the one device of the process, its error check, the RTCScene a Scene owns, the
+// ray-id bit that keeps substructure gaps, and the gap filter's hooks.
+#include <embree3/rtcore.h>
+
+#include "plumage/renderer/scene.h"
+
+namespace plumage {
+
+// One Embree device serves the whole process (creating one starts a thread pool).
+// Throws plumage::Error when the CPU is not supported.
+RTCDevice shared_device();
+// Throws plumage::Error "<during>: Embree error N: ..." if the device reported one.
+void throw_if_device_error(const char* during);
+
+struct Scene::Embree {
+  RTCScene scene = nullptr;
+  ~Embree() {
+    if (scene) rtcReleaseScene(scene);
+  }
+};
+
+// Ray id bit: keep hits in the gaps (the structure AOV wants to see them).
+inline constexpr unsigned kKeepGapsId = 1u;
+
+// Substructure mode (substructure_scene.cpp): installs the gap filter on a
+// normal-oriented barb geometry, and adds the rejections this thread's queries
+// tallied to the shared counter (called once per query).
+void attach_gap_filter(RTCGeometry geom, const Scene* scene);
+void flush_gap_rejections();
+
+}  // namespace plumage
