@@ -35,6 +35,7 @@ struct Options {
   std::string rig = std::string(PLUMAGE_DATA_DIR) + "/rigs/dome25.json";
   std::string backdrop = "white";
   std::string light_pick = to_string(IntegratorSettings{}.light_pick);
+  std::string allocation = to_string(RenderSettings{}.allocation);
   double max_slope = -0.3;
   std::string reference_mode;  // accuracy study: one reference in this mode for every mode
   std::string zoom;            // X,Y,H: top-down orthographic view H mm high centred on (X, Y)
@@ -72,6 +73,7 @@ int run_bench(const Options& o) {
     view.camera.ortho_height = h;
   }
   view.light_pick = parse_light_pick(o.light_pick);
+  view.allocation = parse_sample_allocation(o.allocation);
 
   LadderSpec spec;
   spec.spp.clear();
@@ -135,7 +137,7 @@ const Registration kBench{
     [](CLI::App& sub) {
       auto o = std::make_shared<Options>();
       sub.footer(
-          "Writes a CSV (mode,spp,seconds,rmse,relative_mse) and a log-log plot of RMSE against seconds.\n"
+          "Writes a CSV (mode,spp,seconds,rmse,relative_mse,cpu_seconds) and a log-log plot of RMSE against seconds.\n"
           "Exits 1 when a mode's slope over the upper half of the ladder is above --max-slope.\n"
           "Example: plumage bench --preset rock-dove-wing --csv ladder.csv --plot ladder.png\n"
           "See docs/benchladder.md.");
@@ -155,6 +157,8 @@ const Registration kBench{
       sub.add_option("--lights", o->lights, "Dome LEDs that are on")->capture_default_str();
       sub.add_option("--rig", o->rig, "Light rig JSON file")->capture_default_str();
       sub.add_option("--light-pick", o->light_pick, "Next-event estimation's light choice: uniform, estimate or all")
+          ->capture_default_str();
+      sub.add_option("--allocation", o->allocation, "Samples over pixels: variance or uniform (docs/skip-work.md)")
           ->capture_default_str();
       sub.add_option("--backdrop", o->backdrop, "Card under the feather: white, black or none")->capture_default_str();
       sub.add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();

@@ -49,6 +49,7 @@ struct ViewOptions {
   std::string resolution;
   int spp = 16;
   bool adaptive = false;
+  std::string allocation = to_string(RenderSettings{}.allocation);
   float target_error = 0.02f;
   int min_spp = 16;
   bool cull = false;
@@ -74,6 +75,10 @@ struct ViewOptions {
   void add_to(CLI::App& app, const std::string& resolution_help, const std::string& lights_help) {
     app.add_option("--resolution", resolution, resolution_help)->capture_default_str();
     app.add_option("--spp", spp, "Samples per pixel (a power of two suits the Sobol sampler)")->capture_default_str();
+    app.add_option("--allocation", allocation,
+                   "How samples spread over pixels: variance (a pilot of spp/4, the rest where the noise is; "
+                   "unbiased) or uniform (spp everywhere); docs/skip-work.md")
+        ->capture_default_str();
     app.add_flag("--adaptive", adaptive, "Adaptive sampling: a pixel stops once converged (--spp is the cap; docs/skip-work.md)");
     app.add_option("--target-error", target_error, "With --adaptive: relative standard error of a pixel's mean at which it stops")->capture_default_str();
     app.add_option("--min-spp", min_spp, "With --adaptive: samples every pixel takes before it may stop")->capture_default_str();
@@ -106,6 +111,7 @@ struct ViewOptions {
       throw Error("--resolution '" + resolution + "': give " + resolution_form);
     v.spp = spp;
     v.adaptive = adaptive;
+    v.allocation = parse_sample_allocation(allocation);
     v.target_error = target_error;
     v.min_spp = min_spp;
     v.seed = seed;

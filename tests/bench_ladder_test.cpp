@@ -150,7 +150,7 @@ TEST(BenchLadder, TinyLadderEndToEnd) {
     EXPECT_GT(slope, -1.0) << mode;
   }
   const std::string csv = ladder_csv(pts);
-  EXPECT_EQ(csv.rfind("mode,spp,seconds,rmse,relative_mse\n", 0), 0u);
+  EXPECT_EQ(csv.rfind("mode,spp,seconds,rmse,relative_mse,cpu_seconds\n", 0), 0u);
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 9);
 
   view.seed = spec.reference_seed;
@@ -173,7 +173,7 @@ TEST(BenchLadder, CliWritesCsvAndPlotAndFailsOnAnImpossibleSlope) {
   std::ifstream csv(dir / "l.csv");
   std::string header;
   std::getline(csv, header);
-  EXPECT_EQ(header, "mode,spp,seconds,rmse,relative_mse");
+  EXPECT_EQ(header, "mode,spp,seconds,rmse,relative_mse,cpu_seconds");
   EXPECT_EQ(read_image(dir / "l.png").width, 640);
   // Demanding a slope no renderer reaches exercises the failure path.
   EXPECT_NE(run(common + " --max-slope -100 2>" + (dir / "err.txt").string()), 0);

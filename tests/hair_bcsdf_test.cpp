@@ -410,6 +410,37 @@ TEST(HairBCSDF, ImportanceAndUniformEstimatesAgree) {
   }
 }
 
+// --- the cheap estimate next-event estimation weighs lights with ----------------------
+
+TEST(HairBCSDF, FastEstimateFollowsFCos) {
+  Rng rng(21);
+  double worst = 0;
+  long compared = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const float bm = float(rng.range(0.05, 1.0)), bn = float(rng.range(0.05, 1.0));
+    const HairParams p = params(bm, bn, sigma_a_from_melanin(float(rng.range(0, 3)), float(rng.range(0, 1))),
+                                float(rng.range(-4, 4)));
+    const HairBCSDF bcsdf(p, float(rng.range(-1, 1)));
+    const glm::vec3 wo = uniform_direction(rng);
+    std::vector<glm::vec3> wi(64), exact(64), fast(64);
+    for (glm::vec3& w : wi) w = uniform_direction(rng);
+    bcsdf.f_cos(wo, wi, exact);
+    bcsdf.f_cos_estimate(wo, wi, fast);
+    float peak = 0;
+    for (const glm::vec3& e : exact) peak = std::max({peak, e.x, e.y, e.z});
+    for (std::size_t k = 0; k < wi.size(); ++k)
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_TRUE(std::isfinite(fast[k][c]) && fast[k][c] >= 0) << describe(p, bcsdf.h(), wo);
+        if (exact[k][c] < 1e-3f * peak) continue;  // negligible next to what the vertex sees elsewhere
+        ++compared;
+        worst = std::max(worst, std::fabs(double(fast[k][c]) / exact[k][c] - 1.0));
+      }
+  }
+  EXPECT_GT(compared, 10000);
+  EXPECT_LT(worst, 0.01) << "the estimate strays from f cos";
+  RecordProperty("worst_relative_error", std::to_string(worst));
+}
+
 // --- robustness ------------------------------------------------------------------------
 
 TEST(HairBCSDF, FiniteAndNonNegativeOverExtremeInputs) {

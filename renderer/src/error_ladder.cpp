@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 
+#include "plumage/common/cpu_time.h"
 #include "plumage/common/error.h"
 #include "plumage/renderer/label_font.h"
 
@@ -155,8 +156,13 @@ std::vector<LadderPoint> run_ladder(const Feather& feather, const DomeRig& rig, 
       p.seconds = std::numeric_limits<double>::infinity();
       for (int r = 0; r < spec.repeats; ++r) {
         const auto t0 = std::chrono::steady_clock::now();
+        const double cpu0 = process_cpu_seconds();
         const Image img = render_view(scene, rig, v);
-        p.seconds = std::min(p.seconds, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (wall < p.seconds) {
+          p.seconds = wall;
+          p.cpu_seconds = process_cpu_seconds() - cpu0;
+        }
         if (r == 0) {
           p.rmse = rmse(img, reference);
           p.rel_mse = relative_mse(img, reference);
@@ -170,10 +176,11 @@ std::vector<LadderPoint> run_ladder(const Feather& feather, const DomeRig& rig, 
 
 std::string ladder_csv(const std::vector<LadderPoint>& points) {
   std::ostringstream os;
-  os << "mode,spp,seconds,rmse,relative_mse\n";
+  os << "mode,spp,seconds,rmse,relative_mse,cpu_seconds\n";
   os.precision(9);
   for (const LadderPoint& p : points)
-    os << p.mode << ',' << p.spp << ',' << p.seconds << ',' << p.rmse << ',' << p.rel_mse << '\n';
+    os << p.mode << ',' << p.spp << ',' << p.seconds << ',' << p.rmse << ',' << p.rel_mse << ',' << p.cpu_seconds
+       << '\n';
   return os.str();
 }
 

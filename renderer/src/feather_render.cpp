@@ -54,6 +54,7 @@ Image render_view(const Scene& scene, const DomeRig& rig, const ViewSpec& view) 
   rs.threads = view.threads;
   rs.progress = view.progress;
   rs.adaptive = view.adaptive;
+  rs.allocation = view.allocation;
   rs.target_error = view.target_error;
   rs.min_spp = view.min_spp;
   return render(camera, integrator, rs).developed(exposure_for(scene, lights, view));

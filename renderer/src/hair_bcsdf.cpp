@@ -120,40 +120,66 @@ HairBCSDF::HairBCSDF(const HairParams& params, float h) : p_(params) {
   p_.beta_m = static_cast<float>(clamp_beta(params.beta_m));
   p_.beta_n = static_cast<float>(clamp_beta(params.beta_n));
 
-  // Chiang et al. 2016 §4.2: the TT lobe is half as wide as R, TRT and the residual twice.
-  const double v = hair::variance_from_beta_m(p_.beta_m);
-  v_[0] = v;
-  v_[1] = 0.25 * v;
-  v_[2] = 4.0 * v;
-  v_[3] = 4.0 * v;
-  for (int p = 0; p < 3; ++p) mp_log_norm_[p] = hair::longitudinal_mp_log_norm(v_[p]);
-  mp_log_norm_[3] = mp_log_norm_[2];
-  s_ = hair::logistic_scale_from_beta_n(p_.beta_n);
-  np_norm_ = hair::trimmed_logistic_norm(s_);
-
-  // Marschner et al. 2003 Table 1 shifts, in the 2^k alpha form: R by 2 alpha toward
-  // the root, TT by alpha and TRT by 4 alpha toward the tip. The shift is applied to
-  // theta_o: the lobe is centred on theta_i = -(theta_o + shift). Double-angle formulas
-  // give 2 alpha and 4 alpha from one sin/cos (this runs once per shading point).
-  const double alpha = double(p_.alpha_deg) * kPi / 180.0;
-  const double s1 = std::sin(alpha), c1 = std::cos(alpha);
-  const double s2 = 2.0 * s1 * c1, c2 = c1 * c1 - s1 * s1;
-  const double s4 = 2.0 * s2 * c2, c4 = c2 * c2 - s2 * s2;
-  sin_shift_[0] = s2;
-  cos_shift_[0] = c2;
-  sin_shift_[1] = -s1;
-  cos_shift_[1] = c1;
-  sin_shift_[2] = -s4;
-  cos_shift_[2] = c4;
+  // The lobe terms depend on beta_m, beta_n and alpha only, which rarely change
+  // between the shading points of one thread: keep the last set computed.
+  struct LobeTerms {
+    float beta_m = -1, beta_n = -1, alpha_deg = 0;
+    double v[4], log_norm[4], s, np_norm, sin_shift[3], cos_shift[3];
+  };
+  thread_local LobeTerms last;
+  if (last.beta_m != p_.beta_m || last.beta_n != p_.beta_n || last.alpha_deg != p_.alpha_deg) {
+    LobeTerms t;
+    t.beta_m = p_.beta_m;
+    t.beta_n = p_.beta_n;
+    t.alpha_deg = p_.alpha_deg;
+    // Chiang et al. 2016 §4.2: the TT lobe is half as wide as R, TRT and the residual twice.
+    const double v = hair::variance_from_beta_m(p_.beta_m);
+    t.v[0] = v;
+    t.v[1] = 0.25 * v;
+    t.v[2] = 4.0 * v;
+    t.v[3] = 4.0 * v;
+    for (int p = 0; p < 3; ++p) t.log_norm[p] = hair::longitudinal_mp_log_norm(t.v[p]);
+    t.log_norm[3] = t.log_norm[2];
+    t.s = hair::logistic_scale_from_beta_n(p_.beta_n);
+    t.np_norm = hair::trimmed_logistic_norm(t.s);
+    // Marschner et al. 2003 Table 1 shifts, in the 2^k alpha form: R by 2 alpha toward
+    // the root, TT by alpha and TRT by 4 alpha toward the tip. The shift is applied to
+    // theta_o: the lobe is centred on theta_i = -(theta_o + shift). Double-angle formulas
+    // give 2 alpha and 4 alpha from one sin/cos.
+    const double alpha = double(p_.alpha_deg) * kPi / 180.0;
+    const double s1 = std::sin(alpha), c1 = std::cos(alpha);
+    const double s2 = 2.0 * s1 * c1, c2 = c1 * c1 - s1 * s1;
+    const double s4 = 2.0 * s2 * c2, c4 = c2 * c2 - s2 * s2;
+    t.sin_shift[0] = s2;
+    t.cos_shift[0] = c2;
+    t.sin_shift[1] = -s1;
+    t.cos_shift[1] = c1;
+    t.sin_shift[2] = -s4;
+    t.cos_shift[2] = c4;
+    last = t;
+  }
+  std::copy(last.v, last.v + 4, v_);
+  std::copy(last.log_norm, last.log_norm + 4, mp_log_norm_);
+  s_ = last.s;
+  np_norm_ = last.np_norm;
+  std::copy(last.sin_shift, last.sin_shift + 3, sin_shift_);
+  std::copy(last.cos_shift, last.cos_shift + 3, cos_shift_);
   gamma_o_ = std::asin(double(h_));
   cos_gamma_o_ = std::sqrt(std::max(0.0, 1.0 - double(h_) * h_));
 }
 
-struct HairBCSDF::Attenuation {
-  glm::dvec3 A[kLobes];
-  double weight[kLobes];  // lobe selection probabilities, A_p (mean over RGB) normalised
-  double gamma_t;
-};
+HairBCSDF::HairBCSDF(const HairParams& params, float h, const glm::vec3& wo) : HairBCSDF(params, h) {
+  if (!finite(wo)) return;
+  const Longitude o = longitude(wo);
+  bound_at_ = attenuation(o.sin, o.cos);
+  bound_wo_ = wo;
+  bound_ = true;
+}
+
+HairBCSDF::Attenuation HairBCSDF::attenuation_for(const glm::vec3& wo, double sin_o, double cos_o) const {
+  if (bound_ && wo == bound_wo_) return bound_at_;
+  return attenuation(sin_o, cos_o);
+}
 
 // Chiang et al. 2016 eqs. 3-6 (after Marschner et al. 2003 §4.2): A_0 = F,
 // A_p = (1-F)^2 F^{p-1} T^p, residual A_3 = A_2 F T / (1 - F T); F is the Fresnel
@@ -193,7 +219,7 @@ HairBCSDF::Attenuation HairBCSDF::attenuation(double sin_o, double cos_o) const 
 HairBCSDF::Eval HairBCSDF::eval(const glm::vec3& wo, const glm::vec3& wi) const {
   if (!finite(wo) || !finite(wi)) return {glm::dvec3(0.0), 0.0};
   const Longitude o = longitude(wo);
-  return eval(wo, wi, attenuation(o.sin, o.cos));
+  return eval(wo, wi, attenuation_for(wo, o.sin, o.cos));
 }
 
 HairBCSDF::Eval HairBCSDF::eval(const glm::vec3& wo, const glm::vec3& wi, const Attenuation& at) const {
@@ -232,15 +258,93 @@ float HairBCSDF::pdf(const glm::vec3& wo, const glm::vec3& wi) const {
   return static_cast<float>(eval(wo, wi).pdf);
 }
 
+glm::vec3 HairBCSDF::f_pdf(const glm::vec3& wo, const glm::vec3& wi, float* pdf) const {
+  const Eval e = eval(wo, wi);
+  *pdf = static_cast<float>(e.pdf);
+  return glm::vec3(e.f);
+}
+
 void HairBCSDF::f_cos(const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<glm::vec3> out) const {
   if (!finite(wo)) {
     std::fill(out.begin(), out.end(), glm::vec3(0));
     return;
   }
   const Longitude o = longitude(wo);
-  const Attenuation at = attenuation(o.sin, o.cos);
+  const Attenuation at = attenuation_for(wo, o.sin, o.cos);
   for (std::size_t k = 0; k < wi.size(); ++k)
     out[k] = finite(wi[k]) ? glm::vec3(eval(wo, wi[k], at).f) * bcsdf_cos(wi[k]) : glm::vec3(0);
+}
+
+namespace {
+
+// atan2 within 1e-5 rad: octant reduction and a minimax polynomial for atan on
+// [0, 1] (Abramowitz & Stegun 4.4.49 form, |error| <= 1e-5).
+float fast_atan2(float y, float x) {
+  const float ax = std::fabs(x), ay = std::fabs(y);
+  const float mx = std::fmax(ax, ay), mn = std::fmin(ax, ay);
+  if (!(mx > 0.0f)) return 0.0f;
+  const float a = mn / mx, s = a * a;
+  float r = ((((0.0208351f * s - 0.0851330f) * s + 0.1801410f) * s - 0.3302995f) * s + 0.9998660f) * a;
+  if (ay > ax) r = 1.57079637f - r;
+  if (x < 0.0f) r = 3.14159274f - r;
+  return y < 0.0f ? -r : r;
+}
+
+// Mp of d'Eon et al. 2011 eq. 7 in float: I0 by its polynomial below 3.75 and
+// above by the asymptotic series e^a / sqrt(2 pi a) (1 + 1/(8a) + 9/(128 a^2))
+// (A&S 9.7.1; within 0.2 % from 3.75 on).
+float fast_mp(float sin_i, float cos_i, float sin_o, float cos_o, float inv_v, float log_norm) {
+  const float a = std::fabs(cos_i * cos_o) * inv_v, b = sin_i * sin_o * inv_v;
+  if (a < 3.75f) return std::exp(log_norm - b) * float(hair::bessel_i0_small(a));
+  const float r = 1.0f / a;
+  return std::exp(log_norm - b + a) * (1.0f + r * (0.125f + 0.0703125f * r)) / std::sqrt(6.2831853f * a);
+}
+
+float fast_wrap(float x) {
+  constexpr float k2Pi = 6.2831853f;
+  return x - k2Pi * std::nearbyint(x * (1.0f / k2Pi));
+}
+
+}  // namespace
+
+void HairBCSDF::f_cos_estimate(const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<glm::vec3> out) const {
+  if (!finite(wo)) {
+    std::fill(out.begin(), out.end(), glm::vec3(0));
+    return;
+  }
+  const Longitude o = longitude(wo);
+  const Attenuation at = attenuation_for(wo, o.sin, o.cos);
+  float sin_op[3], cos_op[3], inv_v[4], log_norm[4], shift[3];
+  glm::vec3 A[4];
+  for (int p = 0; p < kLobes; ++p) {
+    inv_v[p] = float(1.0 / v_[p]);
+    log_norm[p] = float(mp_log_norm_[p]);
+    A[p] = glm::vec3(at.A[p]);
+  }
+  for (int p = 0; p < 3; ++p) {
+    sin_op[p] = float(o.sin * cos_shift_[p] + o.cos * sin_shift_[p]);
+    cos_op[p] = float(o.cos * cos_shift_[p] - o.sin * sin_shift_[p]);
+    shift[p] = float(hair::azimuthal_shift(p, gamma_o_, at.gamma_t));
+  }
+  const float s = float(s_), np_norm = float(np_norm_), so = float(o.sin), co = float(o.cos);
+  for (std::size_t k = 0; k < wi.size(); ++k) {
+    const glm::vec3& w = wi[k];
+    if (!finite(w)) {
+      out[k] = glm::vec3(0);
+      continue;
+    }
+    const float sin_i = std::clamp(w.x, -1.0f, 1.0f), cos_i = std::sqrt((1.0f - sin_i) * (1.0f + sin_i));
+    const float phi = fast_atan2(w.y * wo.z - w.z * wo.y, w.z * wo.z + w.y * wo.y);
+    glm::vec3 f(0.0f);
+    for (int p = 0; p < 3; ++p) {
+      const float mp = fast_mp(sin_i, cos_i, sin_op[p], cos_op[p], inv_v[p], log_norm[p]);
+      const float x = std::fabs(fast_wrap(phi - shift[p])), e = std::exp(-x / s);
+      f += A[p] * (mp * e / (s * (1.0f + e) * (1.0f + e)) * np_norm);
+    }
+    f += A[3] * (fast_mp(sin_i, cos_i, so, co, inv_v[3], log_norm[3]) * 0.15915494f);
+    // f cos(theta_i) = sum_p Mp Ap Np: the 1/cos(theta_i) of f cancels.
+    out[k] = f;
+  }
 }
 
 // Chiang et al. 2016 §4.3: pick a lobe by its weight, sample theta_i from its Mp and
@@ -249,7 +353,7 @@ std::optional<BCSDFSample> HairBCSDF::sample(const glm::vec3& wo, const glm::vec
                                              const glm::vec2& u1) const {
   if (!finite(wo)) return std::nullopt;
   const Longitude o = longitude(wo);
-  const Attenuation at = attenuation(o.sin, o.cos);
+  const Attenuation at = attenuation_for(wo, o.sin, o.cos);
 
   // The last lobe with weight catches u0.x beyond a cdf that rounding left below 1.
   int p = -1;

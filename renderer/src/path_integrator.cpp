@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "plumage/common/error.h"
 #include "plumage/renderer/fibre_frame.h"
 
 namespace plumage {
@@ -28,6 +29,8 @@ struct Scatter {
     float pdf;
     for (std::size_t k = 0; k < wi.size(); ++k) out[k] = f_cos(wi[k], &pdf);
   }
+  // f cos or a cheaper approximation of it, for weighing the choice of light only.
+  virtual void estimate_f_cos(std::span<const glm::vec3> wi, std::span<glm::vec3> out) const { f_cos(wi, out); }
 };
 
 // Lambertian card, seen from either side.
@@ -57,20 +60,25 @@ struct DiffuseScatter final : Scatter {
 // longitudinal angle, cos(theta_i) = sqrt(1 - wi.x^2) (Chiang et al. 2016 eq. 2; bcsdf_cos).
 struct FibreScatter final : Scatter {
   FibreFrame ff;
-  HairBCSDF bcsdf;
   glm::vec3 wo_local;
+  HairBCSDF bcsdf;
   FibreScatter(const FibreFrame& frame, const HairParams& params, const glm::vec3& wo)
-      : ff(frame), bcsdf(params, frame.h), wo_local(frame.frame.to_local(wo)) {}
+      : ff(frame), wo_local(frame.frame.to_local(wo)), bcsdf(params, frame.h, wo_local) {}
   glm::vec3 f_cos(const glm::vec3& wi, float* pdf) const override {
     const glm::vec3 wl = ff.frame.to_local(wi);
-    *pdf = bcsdf.pdf(wo_local, wl);
-    return bcsdf.f(wo_local, wl) * bcsdf_cos(wl);
+    return bcsdf.f_pdf(wo_local, wl, pdf) * bcsdf_cos(wl);
   }
   void f_cos(std::span<const glm::vec3> wi, std::span<glm::vec3> out) const override {
     thread_local std::vector<glm::vec3> local;
     local.resize(wi.size());
     for (std::size_t k = 0; k < wi.size(); ++k) local[k] = ff.frame.to_local(wi[k]);
     bcsdf.f_cos(wo_local, local, out);
+  }
+  void estimate_f_cos(std::span<const glm::vec3> wi, std::span<glm::vec3> out) const override {
+    thread_local std::vector<glm::vec3> local;
+    local.resize(wi.size());
+    for (std::size_t k = 0; k < wi.size(); ++k) local[k] = ff.frame.to_local(wi[k]);
+    bcsdf.f_cos_estimate(wo_local, local, out);
   }
   using Scatter::f_cos;
   bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const override {
@@ -109,7 +117,9 @@ constexpr float kEnvironmentResponse = 0.5f / kPi;
 // The pmf lives in per-thread buffers (Li is not re-entrant), so a path allocates nothing.
 class LightChoice {
  public:
-  LightChoice(std::size_t n, LightPick mode) : n_(n), mode_(mode) {
+  // `picks`: how many lights one vertex samples (stratified over the pmf); the
+  // density MIS sees for light sampling is picks x the pmf.
+  LightChoice(std::size_t n, LightPick mode, int picks) : n_(n), mode_(mode), picks_(float(picks)) {
     thread_local std::vector<float> pmf, weights;
     pmf_ = &pmf;
     weights_ = &weights;
@@ -127,7 +137,7 @@ class LightChoice {
       proxies[i] = lights.proxy(i, p);
       dirs[i] = proxies[i].wi;
     }
-    bsdf.f_cos(dirs, response);
+    bsdf.estimate_f_cos(dirs, response);
     for (std::size_t i = 0; i < n_; ++i) {
       const LightProxy& lp = proxies[i];
       const glm::vec3 c = lp.strength * (lp.directional ? response[i] : glm::vec3(kEnvironmentResponse));
@@ -138,7 +148,7 @@ class LightChoice {
   }
   float prob(std::size_t i) const {
     if (mode_ == LightPick::All) return 1.0f;
-    return estimated_ ? (*pmf_)[i] : 1.0f / float(n_);
+    return picks_ * (estimated_ ? (*pmf_)[i] : 1.0f / float(n_));
   }
   std::size_t choose(float u) const {
     if (estimated_) return pick_from_pmf(*pmf_, u);
@@ -148,6 +158,7 @@ class LightChoice {
  private:
   std::size_t n_;
   LightPick mode_;
+  float picks_;
   bool estimated_ = false;
   std::vector<float>*pmf_, *weights_;
 };
@@ -170,12 +181,15 @@ FibreFrame PathIntegrator::fibre_frame_at(const SurfaceHit& hit, const glm::vec3
 
 PathIntegrator::PathIntegrator(const Scene& scene, const LightSet& lights, const FibreMaterial& material,
                                const IntegratorSettings& settings)
-    : scene_(scene), lights_(lights), material_(material), settings_(settings) {}
+    : scene_(scene), lights_(lights), material_(material), settings_(settings) {
+  if (settings_.light_picks < 1) throw Error("light picks per vertex must be at least 1");
+}
 
 glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& counters) const {
   glm::vec3 L(0), beta(1);
   const std::size_t n_lights = lights_.count();
-  LightChoice pick(n_lights, settings_.light_pick);  // the selection pmf at the last vertex (MIS needs it on a light hit)
+  const int picks = settings_.light_pick == LightPick::All ? 1 : settings_.light_picks;
+  LightChoice pick(n_lights, settings_.light_pick, picks);  // the selection pmf at the last vertex (MIS needs it on a light hit)
   float prev_pdf = 0;      // pdf of the BCSDF sample that made `ray`
   bool from_camera = true; // no MIS for what the camera sees directly
   for (int depth = 0;; ++depth) {
@@ -225,8 +239,16 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
         }
       } else {
         if (settings_.light_pick == LightPick::Estimate) pick.estimate(lights_, hit.p, *bsdf);
-        const std::size_t i = pick.choose(ul.x);
-        L += beta * direct_light(scene_, lights_, hit, *bsdf, i, pick.prob(i), {ul.y, ul.z}, counters);
+        // Stratified over the pmf: pick k takes u in [k/picks, (k+1)/picks).
+        for (int k = 0; k < picks; ++k) {
+          glm::vec2 us(ul.y, ul.z);
+          if (k > 0) {
+            const glm::vec4 u = sampler.next4();
+            us = {u.x, u.y};
+          }
+          const std::size_t i = pick.choose((ul.x + float(k)) / float(picks));
+          L += beta * direct_light(scene_, lights_, hit, *bsdf, i, pick.prob(i), us, counters);
+        }
       }
     }
 

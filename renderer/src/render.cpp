@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/global_control.h>
@@ -32,6 +33,59 @@ bool converged(double sum, double sum_sq, int n, double target) {
 }
 }  // namespace
 
+const char* to_string(SampleAllocation a) { return a == SampleAllocation::Uniform ? "uniform" : "variance"; }
+
+SampleAllocation parse_sample_allocation(const std::string& name) {
+  if (name == "uniform") return SampleAllocation::Uniform;
+  if (name == "variance") return SampleAllocation::Variance;
+  throw Error("unknown sample allocation '" + name + "'; choose uniform or variance");
+}
+
+std::vector<int> allocate_samples(const std::vector<double>& variance, const std::vector<double>& cost, int W, int H,
+                                  int spp, int pilot) {
+  const std::size_t P = std::size_t(W) * std::size_t(H);
+  auto at = [&](const std::vector<double>& v, int x, int y) { return std::max(0.0, v[std::size_t(y) * W + x]); };
+  auto neighbours = [&](int x, int y, auto&& f) {
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int nx = x + dx, ny = y + dy;
+        if ((dx != 0 || dy != 0) && nx >= 0 && ny >= 0 && nx < W && ny < H) f(nx, ny);
+      }
+  };
+  // Per pixel, its neighbours' (3x3 without the centre) summed variance and cost.
+  std::vector<double> vsum(P, 0.0), csum(P, 0.0);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      neighbours(x, y, [&](int nx, int ny) {
+        vsum[std::size_t(y) * W + x] += at(variance, nx, ny);
+        csum[std::size_t(y) * W + x] += at(cost, nx, ny);
+      });
+  // sigma / sqrt(cost) from the sums (the count cancels); 0 where nothing is known.
+  auto weight = [](double v, double c) { return v > 0 && c > 0 ? std::sqrt(v / c) : 0.0; };
+  std::vector<double> w(P);
+  double total = 0;
+  for (std::size_t i = 0; i < P; ++i) total += (w[i] = weight(vsum[i], csum[i]));
+  const double budget = double(spp - pilot) * double(P);
+  std::vector<int> n(P, spp);
+  if (!(budget > 0)) return n;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const std::size_t i = std::size_t(y) * W + x;
+      // The total as it would be without pixel i's own figures: its neighbours'
+      // weights recomputed without them (theirs are the only ones that saw them).
+      double total_without = total;
+      neighbours(x, y, [&](int nx, int ny) {
+        const std::size_t j = std::size_t(ny) * W + nx;
+        total_without += weight(vsum[j] - at(variance, x, y), csum[j] - at(cost, x, y)) - w[j];
+      });
+      // No noise anywhere near: the pixel keeps the plain spp.
+      if (!(total_without > 0) || !std::isfinite(total_without)) continue;
+      // At most 16x spp in one pixel, so a single hot pixel cannot take the budget.
+      n[i] = pilot + int(std::lround(std::min(budget * w[i] / total_without, 16.0 * spp)));
+    }
+  return n;
+}
+
 Film render(const Camera& camera, const PathIntegrator& integrator, const RenderSettings& settings) {
   if (settings.spp < 1) throw Error("--spp must be at least 1");
   if (settings.threads < 0) throw Error("--threads must be 0 (all cores) or more");
@@ -43,37 +97,54 @@ Film render(const Camera& camera, const PathIntegrator& integrator, const Render
   }
   const int W = camera.width(), H = camera.height(), T = settings.tile_size;
   const int tiles_x = (W + T - 1) / T, tiles_y = (H + T - 1) / T;
+  const std::size_t P = std::size_t(W) * std::size_t(H);
+  const bool allocate = settings.allocation == SampleAllocation::Variance && !settings.adaptive && settings.spp >= 8;
+  const int pilot = allocate ? settings.spp / 4 : settings.spp;
   Film film(W, H);
-  ProgressBar progress("Rendering", std::uint64_t(tiles_x) * tiles_y, !settings.progress);
+  ProgressBar progress("Rendering", std::uint64_t(tiles_x) * tiles_y * (allocate ? 2 : 1), !settings.progress);
 
-  const std::int64_t saved_before = g_saved.value();
+  // Per pixel: the radiance sum, the samples taken, and (pilot) luminance moments.
+  std::vector<glm::dvec3> sum(P, glm::dvec3(0));
+  std::vector<int> taken(P, 0);
+  std::vector<double> variance(allocate ? P : 0), cost(allocate ? P : 0);
+  std::vector<int> target(P, pilot);
+
   const auto start = std::chrono::steady_clock::now();
-  auto render_tile = [&](int tx, int ty) {
+  // Takes pixel samples taken[i] .. target[i]-1 over one tile.
+  auto render_tile = [&](int tx, int ty, bool first_pass) {
     const detail::FtzDazScope ftz_daz;  // in every thread, whatever its mode (float_mode.h)
     PixelSampler sampler(settings.sampler, settings.seed);
     PathCounters counters;
     std::int64_t saved = 0;
     for (int y = ty * T; y < std::min(H, (ty + 1) * T); ++y)
       for (int x = tx * T; x < std::min(W, (tx + 1) * T); ++x) {
-        glm::dvec3 sum(0);
+        const std::size_t i = std::size_t(y) * W + x;
+        glm::dvec3 s = sum[i];
         double lum = 0, lum_sq = 0;
-        int n = 0;
-        while (n < settings.spp) {
+        int n = taken[i];
+        const std::int64_t rays_before = counters.rays + counters.shadow_rays;
+        while (n < target[i]) {
           sampler.start(x, y, std::uint32_t(n));
           const glm::vec4 u = sampler.next4();
           const Ray ray = camera.generate(float(x) + u.x, float(y) + u.y);
           const glm::dvec3 L(integrator.Li(ray, sampler, counters));
-          sum += L;
+          s += L;
           ++n;
-          if (!settings.adaptive) continue;
+          if (!settings.adaptive && !(allocate && first_pass)) continue;
           const double Y = 0.2126 * L.x + 0.7152 * L.y + 0.0722 * L.z;  // Rec. 709 luminance
           lum += Y;
           lum_sq += Y * Y;
-          if (n >= settings.min_spp && n % settings.check_every == 0 && converged(lum, lum_sq, n, settings.target_error))
+          if (settings.adaptive && n >= settings.min_spp && n % settings.check_every == 0 &&
+              converged(lum, lum_sq, n, settings.target_error))
             break;
         }
-        saved += settings.spp - n;
-        film.set(x, y, glm::vec3(sum / double(n)));
+        if (settings.adaptive) saved += settings.spp - n;
+        if (allocate && first_pass && n > 1) {
+          variance[i] = std::max(0.0, (lum_sq - lum * lum / n) / (n - 1));
+          cost[i] = double(counters.rays + counters.shadow_rays - rays_before) / n;  // rays per sample
+        }
+        sum[i] = s;
+        taken[i] = n;
       }
     g_saved += saved;
     g_rays += counters.rays + counters.shadow_rays;
@@ -84,14 +155,26 @@ Film render(const Camera& camera, const PathIntegrator& integrator, const Render
   };
 
   tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
-  arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1), [&](const tbb::blocked_range2d<int>& r) {
-      for (int ty = r.rows().begin(); ty != r.rows().end(); ++ty)
-        for (int tx = r.cols().begin(); tx != r.cols().end(); ++tx) render_tile(tx, ty);
+  auto pass = [&](bool first_pass) {
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1), [&](const tbb::blocked_range2d<int>& r) {
+        for (int ty = r.rows().begin(); ty != r.rows().end(); ++ty)
+          for (int tx = r.cols().begin(); tx != r.cols().end(); ++tx) render_tile(tx, ty, first_pass);
+      });
     });
-  });
+  };
+  pass(true);
+  if (allocate) {
+    target = allocate_samples(variance, cost, W, H, settings.spp, pilot);
+    pass(false);
+  }
   progress.finish();
-  g_samples += std::int64_t(W) * H * settings.spp - (g_saved.value() - saved_before);
+  std::int64_t samples = 0;
+  for (std::size_t i = 0; i < P; ++i) {
+    samples += taken[i];
+    film.set(int(i % std::size_t(W)), int(i / std::size_t(W)), glm::vec3(sum[i] / double(std::max(taken[i], 1))));
+  }
+  g_samples += samples;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   stats_set_value("Time/Render (s)", seconds);
   stats_set_value("Renderer/Rays per second", seconds > 0 ? double(g_rays.value()) / seconds : 0.0);

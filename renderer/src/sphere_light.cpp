@@ -56,21 +56,4 @@ glm::vec3 sphere_light_irradiance(const SphereLight& l, const glm::vec3& p, cons
   return cos_t > 0 ? l.radiance * (kPi * r2 / d2 * cos_t) : glm::vec3(0);
 }
 
-std::optional<float> intersect_sphere(const SphereLight& l, const glm::vec3& o, const glm::vec3& d) {
-  const glm::vec3 oc = l.centre - o;
-  const float b = glm::dot(oc, d);
-  const float c = glm::dot(oc, oc) - l.radius * l.radius;
-  // Distance from the centre to the line, computed stably (|oc - b d|^2).
-  const glm::vec3 perp = oc - b * d;
-  const float disc = l.radius * l.radius - glm::dot(perp, perp);
-  if (disc < 0) return std::nullopt;
-  const float s = std::sqrt(disc);
-  if (c > 0) {
-    const float t = b - s;
-    if (t > 0) return t;
-    return std::nullopt;
-  }
-  return b + s;  // inside: the far side
-}
-
 }  // namespace plumage

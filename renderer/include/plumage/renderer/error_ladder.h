@@ -20,7 +20,8 @@ namespace plumage {
 struct LadderPoint {
   std::string mode;
   int spp = 0;
-  double seconds = 0;
+  double seconds = 0;      // wall clock of the fastest repeat
+  double cpu_seconds = 0;  // user + system CPU time of the process over that repeat (all threads)
   double rmse = 0;
   double rel_mse = 0;
 };
@@ -65,7 +66,7 @@ std::vector<std::string> biased_modes(const std::vector<LadderPoint>& points, do
 std::vector<LadderPoint> run_ladder(const Feather& feather, const DomeRig& rig, const ViewSpec& view,
                                     const LadderSpec& spec);
 
-// "mode,spp,seconds,rmse,relative_mse" and one row per point.
+// "mode,spp,seconds,rmse,relative_mse,cpu_seconds" and one row per point.
 std::string ladder_csv(const std::vector<LadderPoint>& points);
 
 // Log-log plot of RMSE against seconds: decade ticks and labels, one coloured

@@ -15,6 +15,7 @@
 #include "plumage/renderer/hair_bcsdf.h"
 #include "plumage/renderer/light_set.h"
 #include "plumage/renderer/path_integrator.h"
+#include "plumage/renderer/render.h"
 #include "plumage/renderer/sampler.h"
 #include "plumage/renderer/scene.h"
 
@@ -39,6 +40,7 @@ struct ViewSpec {
   std::filesystem::path base_dir = ".";  // the curve file's folder (albedo texture paths)
   int threads = 0;
   bool progress = false;
+  SampleAllocation allocation = RenderSettings{}.allocation;
   bool adaptive = false;         // RenderSettings: adaptive sampling, off by default
   float target_error = 0.02f;
   int min_spp = 16;

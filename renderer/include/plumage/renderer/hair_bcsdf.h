@@ -70,6 +70,9 @@ class HairBCSDF {
   // Validates params (see validate()) and throws plumage::Error for a non-finite h;
   // h is clamped to [-1,1] and the betas to [0.001, 1] (docs/hair-bcsdf.md).
   HairBCSDF(const HairParams& params, float h);
+  // The same, with the terms that depend on wo alone (the lobes' attenuations A_p)
+  // computed once for `wo`: a shading point evaluates many wi for one wo.
+  HairBCSDF(const HairParams& params, float h, const glm::vec3& wo);
 
   // f(wo, wi), without the |cos| factor (see bcsdf_cos). Finite and >= 0 for any
   // input; 0 for non-finite directions.
@@ -78,9 +81,16 @@ class HairBCSDF {
   // no direction can be produced. f and pdf are exactly f(wo, wi) and pdf(wo, wi).
   std::optional<BCSDFSample> sample(const glm::vec3& wo, const glm::vec2& u0, const glm::vec2& u1) const;
   float pdf(const glm::vec3& wo, const glm::vec3& wi) const;
+  // f(wo, wi) and, in *pdf, pdf(wo, wi), from one evaluation.
+  glm::vec3 f_pdf(const glm::vec3& wo, const glm::vec3& wi, float* pdf) const;
   // f(wo, wi[k]) * bcsdf_cos(wi[k]) for many wi and one wo, the wo-dependent terms
   // computed once (next-event estimation weighs every light with it).
   void f_cos(const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<glm::vec3> out) const;
+  // An approximation of f_cos in float arithmetic (Bessel I0 by its asymptotic series
+  // above 3.75, the azimuth by a polynomial atan2), cheaper: for weighing
+  // choices (next-event estimation's light pick), never for radiance. Within 1 %
+  // of f_cos where f_cos is not negligible (tests/hair_bcsdf_test.cpp).
+  void f_cos_estimate(const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<glm::vec3> out) const;
 
   const HairParams& params() const { return p_; }
   float h() const { return h_; }
@@ -92,8 +102,15 @@ class HairBCSDF {
     glm::dvec3 f;
     double pdf;
   };
-  struct Attenuation;
+  // Chiang et al. 2016 eqs. 3-6: A_p per lobe, the lobe selection weights, gamma_t.
+  struct Attenuation {
+    glm::dvec3 A[4];
+    double weight[4];  // lobe selection probabilities, A_p (mean over RGB) normalised
+    double gamma_t;
+  };
   Attenuation attenuation(double sin_o, double cos_o) const;
+  // attenuation() for wo: the one computed at construction when wo is that one.
+  Attenuation attenuation_for(const glm::vec3& wo, double sin_o, double cos_o) const;
   Eval eval(const glm::vec3& wo, const glm::vec3& wi) const;
   Eval eval(const glm::vec3& wo, const glm::vec3& wi, const Attenuation& at) const;
 
@@ -104,6 +121,9 @@ class HairBCSDF {
   double sin_shift_[3], cos_shift_[3];          // cuticle shifts of theta_o for R, TT, TRT
   double s_;                                    // logistic scale
   double gamma_o_, cos_gamma_o_;
+  bool bound_ = false;  // constructed for one wo: bound_at_ holds its attenuation
+  glm::vec3 bound_wo_{0};
+  Attenuation bound_at_{};
 };
 
 }  // namespace plumage

@@ -5,6 +5,8 @@
 // the environment. How next-event estimation chooses among them (LightPick) is
 // the integrator's business; this class gives per-light sampling, pdfs, and the
 // estimates the integrator weighs its choice with (docs/rendering.md, "Lights").
+#include <algorithm>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -65,7 +67,10 @@ std::size_t pick_from_pmf(std::span<const float> pmf, float u);
 
 class LightSet {
  public:
-  void add(const SphereLight& l) { spheres_.push_back(l); }
+  void add(const SphereLight& l) {
+    spheres_.push_back(l);
+    sphere_floor_ = std::min(sphere_floor_, l.centre.z - l.radius);
+  }
   void add(const DirectionalLight& l) { directional_.push_back(l); }
   void set_environment(EnvironmentLight env) { env_ = std::move(env); }
 
@@ -97,6 +102,8 @@ class LightSet {
   std::vector<SphereLight> spheres_;
   std::vector<DirectionalLight> directional_;
   std::optional<EnvironmentLight> env_;
+  // The lowest z of any sphere light: a ray below it heading down meets none.
+  float sphere_floor_ = std::numeric_limits<float>::infinity();
 };
 
 }  // namespace plumage

@@ -20,6 +20,10 @@ struct IntegratorSettings {
   int rr_depth = 3;    // Russian roulette from this many bounces on
   // How next-event estimation chooses its light (docs/rendering.md, "Lights").
   LightPick light_pick = LightPick::Estimate;
+  // Estimate and Uniform: lights sampled per vertex, stratified over the choice's
+  // pmf (pick k draws from [k, k+1)/picks), each a shadow ray; MIS counts the
+  // light strategy's density picks times (docs/rendering.md, "Lights").
+  int light_picks = 4;
 };
 
 // Per-thread tallies, added to the global StatCounters once per tile.
@@ -29,6 +33,7 @@ struct PathCounters {
 
 class PathIntegrator {
  public:
+  // Throws plumage::Error for settings.light_picks < 1.
   PathIntegrator(const Scene& scene, const LightSet& lights, const FibreMaterial& material,
                  const IntegratorSettings& settings);
 

@@ -3,6 +3,8 @@
 // from its own deterministic stream, so the result for a seed does not depend on
 // the number of threads or the order tiles finish in.
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include "plumage/renderer/camera.h"
 #include "plumage/renderer/film.h"
@@ -10,6 +12,27 @@
 #include "plumage/renderer/sampler.h"
 
 namespace plumage {
+
+// How a render spreads its samples over the pixels (docs/skip-work.md, "Sample
+// allocation").
+enum class SampleAllocation {
+  Uniform,   // every pixel takes spp samples
+  Variance,  // a pilot of spp/4 per pixel, then the rest of the budget in proportion
+             // to the noise the pilot found around each pixel; unbiased
+};
+const char* to_string(SampleAllocation a);
+// "uniform" or "variance"; throws plumage::Error naming the choices otherwise.
+SampleAllocation parse_sample_allocation(const std::string& name);
+
+// Variance allocation's per-pixel sample counts from the pilot's per-pixel
+// luminance variance and cost (rays per sample), row-major, width x height: pilot
+// plus a share of the remaining (spp - pilot) x pixels samples in proportion to
+// sigma / sqrt(cost) (which minimises the summed variance for the time spent),
+// both taken as the means over the pixel's 3x3 neighbours with itself left out.
+// A pixel's count is computed without its own figures, in the normalisation too,
+// so a pixel's samples never decide how many it gets: its mean stays unbiased.
+std::vector<int> allocate_samples(const std::vector<double>& variance, const std::vector<double>& cost, int width,
+                                  int height, int spp, int pilot);
 
 struct RenderSettings {
   int spp = 16;
@@ -26,6 +49,8 @@ struct RenderSettings {
   float target_error = 0.02f;
   int min_spp = 16;
   int check_every = 8;
+  // Ignored with `adaptive`, and below 8 spp (too few for a pilot).
+  SampleAllocation allocation = SampleAllocation::Variance;
 };
 
 // Throws plumage::Error for spp < 1, threads < 0, tile_size < 1 or bad adaptive settings.

@@ -1,5 +1,6 @@
 #pragma once
 // A small spherical area light of uniform radiance (one LED of the dome rig).
+#include <cmath>
 #include <optional>
 
 #include <glm/glm.hpp>
@@ -31,6 +32,23 @@ float sphere_light_pdf(const SphereLight& l, const glm::vec3& p);
 // LED far away); zero when the centre is below it or p is inside the sphere.
 glm::vec3 sphere_light_irradiance(const SphereLight& l, const glm::vec3& p, const glm::vec3& n);
 // Distance along a unit direction to the sphere's near side, or nullopt.
-std::optional<float> intersect_sphere(const SphereLight& l, const glm::vec3& o, const glm::vec3& d);
+// Inline: every ray of a path tests every LED.
+inline std::optional<float> intersect_sphere(const SphereLight& l, const glm::vec3& o, const glm::vec3& d) {
+  const glm::vec3 oc = l.centre - o;
+  const float b = glm::dot(oc, d);
+  const float c = glm::dot(oc, oc) - l.radius * l.radius;
+  if (c > 0 && b <= 0) return std::nullopt;  // outside, and the sphere is behind the ray
+  // Distance from the centre to the line, computed stably (|oc - b d|^2).
+  const glm::vec3 perp = oc - b * d;
+  const float disc = l.radius * l.radius - glm::dot(perp, perp);
+  if (disc < 0) return std::nullopt;
+  const float s = std::sqrt(disc);
+  if (c > 0) {
+    const float t = b - s;
+    if (t > 0) return t;
+    return std::nullopt;
+  }
+  return b + s;  // inside: the far side
+}
 
 }  // namespace plumage
