@@ -20,9 +20,10 @@ struct IntegratorSettings {
   int rr_depth = 3;    // Russian roulette from this many bounces on
   // How next-event estimation chooses its light (docs/rendering.md, "Lights").
   LightPick light_pick = LightPick::Estimate;
-  // Estimate and Uniform: lights sampled per vertex, stratified over the choice's
-  // pmf (pick k draws from [k, k+1)/picks), each a shadow ray; MIS counts the
-  // light strategy's density picks times (docs/rendering.md, "Lights").
+  // Estimate and Uniform: lights sampled per vertex (at most the number of
+  // lights), stratified over the choice's pmf (pick k draws from [k, k+1)/picks),
+  // each a shadow ray; MIS counts the light strategy's density picks times
+  // (docs/rendering.md, "Lights").
   int light_picks = 4;
 };
 
