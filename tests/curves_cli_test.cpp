@@ -13,6 +13,8 @@
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/curve_format.h"
 #include "plumage/common/exporters.h"
+#include "plumage/common/image.h"
+#include "plumage/renderer/export_scene.h"
 
 using namespace plumage;
 namespace fs = std::filesystem;
@@ -50,6 +52,8 @@ class CurvesCli : public ::testing::Test {
 // library loaded), so these tests run it a dozen times in all; the formats
 // themselves are checked in-process by exporters_test.cpp.
 TEST_F(CurvesCli, ExportWritesTheChosenFormat) {
+  // The scene formats take the fibres' absorption from the albedo texture, as a render does.
+  write_image(dir_ / "albedo.png", Image(4, 4, 3, 0.3f));
   const struct {
     const char* flag;
     const char* out;
@@ -62,9 +66,21 @@ TEST_F(CurvesCli, ExportWritesTheChosenFormat) {
     const Result r = run("export " + path("f.fcurves") + " " + c.flag + " -o " + path(c.out));
     ASSERT_EQ(r.rc, 0) << r.err;
     EXPECT_NE(r.out.find("1 shaft, 6 barbs"), std::string::npos) << r.out;
-    ExportOptions options;
-    options.image_filename = fs::path(c.out).stem().string() + ".exr";
-    EXPECT_EQ(read_file(dir_ / c.out), export_text(feather_, c.format, options));
+    // The CLI's defaults: a 512x512 view at 64 spp, every LED, the white card.
+    ExportScene scene;
+    if (c.format == ExportFormat::PbrtV3) {
+      ViewSpec view;
+      view.width = view.height = 512;
+      view.spp = 64;
+      view.base_dir = dir_;
+      SceneOptions so;
+      so.backdrop = {true, glm::vec3(0.8f)};
+      scene = export_scene(feather_, read_dome_rig(std::string(PLUMAGE_DATA_DIR) + "/rigs/dome25.json"), view, so);
+      scene.image_filename = fs::path(c.out).stem().string() + ".exr";
+    }
+    EXPECT_EQ(read_file(dir_ / c.out), export_text(feather_, c.format, scene));
+    if (c.format == ExportFormat::PbrtV3)
+      EXPECT_NE(read_file(dir_ / c.out).find("the albedo texture is not exported"), std::string::npos);
   }
   EXPECT_EQ(read_fcurves(dir_ / "e.fcurves"), feather_);
 }
