@@ -23,6 +23,7 @@ std::optional<ExportFormat> format_from_extension(const std::filesystem::path& o
   if (ext == ".pbrt") return ExportFormat::Pbrt;
   if (ext == ".obj") return ExportFormat::Obj;
   if (ext == ".txt") return ExportFormat::Mitsuba;
+  if (ext == ".py") return ExportFormat::Blender;
   return std::nullopt;
 }
 
@@ -55,7 +56,7 @@ ExportScene scene_for(const ExportArgs& a, const Feather& feather, const std::fi
 }
 
 const Registration kExport{
-    "export", "Write a .fcurves feather as pbrt-v4, pbrt-v3, Mitsuba 3 or Wavefront OBJ curves",
+    "export", "Write a .fcurves feather as a pbrt-v4, pbrt-v3, Mitsuba 3 or Blender scene, or Wavefront OBJ curves",
     [](CLI::App& sub) -> std::function<int()> {
       auto args = std::make_shared<ExportArgs>();
       sub.footer(
@@ -68,18 +69,22 @@ const Registration kExport{
           "  pbrt-v3  the same scene in pbrt-v3 syntax\n"
           "  mitsuba  Mitsuba 3 bsplinecurve file (x y z radius per line, a blank line between\n"
           "           curves) and beside it a scene XML (same name, .xml) that loads it\n"
-          "  obj      Wavefront OBJ free-form curves (cstype bspline), for Blender\n"
+          "  obj      Wavefront OBJ free-form curves (cstype bspline): Blender imports them\n"
+          "           as NURBS curves, without radius (OBJ has none)\n"
+          "  blender  Python script for Blender 3.4+ (blender -b -P feather.py): the curves\n"
+          "           with their drawn radius as a Curves object, a Principled Hair BSDF with\n"
+          "           plumage's sigma_a, the camera, LEDs (point lights with radius) and card\n"
           "The view options mean what they mean to `plumage render`; --shading substructure\n"
           "is exported as hair (no other renderer has it) with a comment saying so.\n"
           "Without --format the output's extension decides: .fcurves, .pbrt (pbrt-v4),\n"
-          ".txt (mitsuba), .obj. The output is written atomically: on any error an\n"
+          ".txt (mitsuba), .obj, .py (blender). The output is written atomically: on any error an\n"
           "existing file is left as it was. See docs/exporters.md.\n"
           "Example: plumage export feather.fcurves --format pbrt -o feather.pbrt\n"
           "Exit status: 0 done, 1 the input could not be read or exported, 2 usage error.\n");
       sub.add_option("FILE", args->input, "The .fcurves file to read")->required();
       sub.add_option("-o,--output", args->output, "The file to write")->required();
-      sub.add_option("-f,--format", args->format, "fcurves, pbrt, pbrt-v3, mitsuba or obj")
-          ->check(CLI::IsMember({"fcurves", "pbrt", "pbrt-v3", "mitsuba", "obj"}));
+      sub.add_option("-f,--format", args->format, "fcurves, pbrt, pbrt-v3, mitsuba, obj or blender")
+          ->check(CLI::IsMember({"fcurves", "pbrt", "pbrt-v3", "mitsuba", "obj", "blender"}));
       sub.add_option("--shading", args->shading, "The plumage mode the scene reproduces: hair, or substructure/explicit (exported as hair)")
           ->capture_default_str();
       ViewOptions& v = args->view;
@@ -110,13 +115,12 @@ const Registration kExport{
           format = *f;
         } else {
           std::cerr << "plumage: error: cannot tell the format from '" << out.string()
-                    << "': give --format fcurves|pbrt|pbrt-v3|mitsuba|obj\n";
+                    << "': give --format fcurves|pbrt|pbrt-v3|mitsuba|obj|blender\n";
           return 2;
         }
         Feather feather = read_fcurves(args->input);
         args->substructure.apply(feather);
-        const bool scene_format = format == ExportFormat::Pbrt || format == ExportFormat::PbrtV3 ||
-                                  format == ExportFormat::Mitsuba;
+        const bool scene_format = format != ExportFormat::Fcurves && format != ExportFormat::Obj;
         const ExportScene scene = scene_format ? scene_for(*args, feather, out) : ExportScene{};
         export_feather(out, feather, format, scene);
         if (!global_options().quiet) {

@@ -169,7 +169,8 @@ PbrtScene check_pbrt(const std::string& text, const Feather& f, bool v4) {
   int depth = 0;
   bool world = false;
   std::string material;  // of the current attribute block
-  std::optional<glm::vec3> area_L, translate;
+  bool emitting = false;
+  glm::vec3 area_L(0), translate(0);
   std::size_t curve = 0;
   for (const PbrtStatement& s : statements) {
     SCOPED_TRACE(s.directive);
@@ -183,8 +184,8 @@ PbrtScene check_pbrt(const std::string& text, const Feather& f, bool v4) {
     if (s.directive == "AttributeEnd") {
       EXPECT_GE(--depth, 0);
       material.clear();
-      area_L.reset();
-      translate.reset();
+      emitting = false;
+      translate = glm::vec3(0);
     }
     if (s.directive == "LookAt") {
       EXPECT_EQ(s.args.size(), 9u);
@@ -199,7 +200,9 @@ PbrtScene check_pbrt(const std::string& text, const Feather& f, bool v4) {
       EXPECT_EQ(s.args, std::vector<std::string>{v4 ? "volpath" : "path"});
       scene.max_depth = int(float_param(s, "maxdepth"));
     }
-    if (s.directive == "PixelFilter") EXPECT_EQ(s.args, std::vector<std::string>{"box"});
+    if (s.directive == "PixelFilter") {
+      EXPECT_EQ(s.args, std::vector<std::string>{"box"});
+    }
     if (s.directive == "Film") {
       scene.width = int(float_param(s, "xresolution"));
       scene.height = int(float_param(s, "yresolution"));
@@ -212,6 +215,7 @@ PbrtScene check_pbrt(const std::string& text, const Feather& f, bool v4) {
       EXPECT_EQ(s.args, std::vector<std::string>{"diffuse"});
       EXPECT_EQ(s.params.at("L").type, "rgb");
       area_L = vec3_of(s.params.at("L").values);
+      emitting = true;
     }
     if (s.directive == "Translate") translate = vec3_of(s.args);
     if (s.directive == "Material") {
@@ -232,8 +236,8 @@ PbrtScene check_pbrt(const std::string& text, const Feather& f, bool v4) {
     EXPECT_TRUE(world) << "shape before WorldBegin";
     EXPECT_EQ(depth, 1) << "every shape sits in its own attribute block";
     if (s.args == std::vector<std::string>{"sphere"}) {
-      EXPECT_TRUE(area_L && translate) << "a sphere is an LED: emitting, placed by Translate";
-      scene.lights.push_back({translate.value_or(glm::vec3(0)), float_param(s, "radius"), area_L.value_or(glm::vec3(0))});
+      EXPECT_TRUE(emitting) << "a sphere is an LED: emitting, placed by Translate";
+      scene.lights.push_back({translate, float_param(s, "radius"), area_L});
       continue;
     }
     if (s.args == std::vector<std::string>{"trianglemesh"}) {
@@ -625,6 +629,76 @@ ExportScene as_export_scene(const PbrtScene& p, bool v4) {
   return s;
 }
 
+// ---------------------------------------------------------------- blender ---
+// Every number on a line of Python (tuples of floats and ints).
+std::vector<float> py_numbers(const std::string& line) {
+  std::vector<float> out;
+  for (std::size_t i = 0; i < line.size();) {
+    const char c = line[i];
+    if (c == '#') break;
+    if (std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '.') {
+      char* end = nullptr;
+      const float v = std::strtof(line.c_str() + i, &end);
+      const std::size_t next = std::size_t(end - line.c_str());
+      if (next == i) {  // a lone '-' or '.'
+        ++i;
+        continue;
+      }
+      out.push_back(v);
+      i = next;
+    } else {
+      ++i;
+    }
+  }
+  return out;
+}
+
+// The script's data block read back: its curves and the scene's numbers.
+void check_blender(const std::string& text, const Feather& f, const ExportScene& want) {
+  std::istringstream in(text);
+  std::string line;
+  std::map<std::string, std::vector<float>> constants;
+  std::vector<std::vector<float>> curves, leds;
+  std::vector<std::vector<float>>* list = nullptr;
+  while (std::getline(in, line)) {
+    if (line == "CURVES = [") list = &curves;
+    else if (line == "LEDS = [") list = &leds;
+    else if (line == "]") list = nullptr;
+    else if (list) list->push_back(py_numbers(line));
+    else if (const std::size_t eq = line.find(" = "); eq != std::string::npos && std::isupper(static_cast<unsigned char>(line[0])))
+      constants[line.substr(0, eq)] = py_numbers(line.substr(eq + 3));
+  }
+  ASSERT_EQ(curves.size(), f.curves.size());
+  for (std::size_t i = 0; i < curves.size(); ++i) {
+    const Curve& c = f.curves[i];
+    ASSERT_EQ(curves[i].size(), 4 * c.points.size()) << "curve " << i;
+    for (std::size_t k = 0; k < c.points.size(); ++k)
+      EXPECT_EQ(glm::vec4(curves[i][4 * k], curves[i][4 * k + 1], curves[i][4 * k + 2], curves[i][4 * k + 3]),
+                glm::vec4(c.points[k].p, drawn_radius(f, c, c.points[k])));
+  }
+  const auto& m = want.material;
+  EXPECT_EQ(constants["SIGMA_A"], (std::vector<float>{m.sigma_a.x, m.sigma_a.y, m.sigma_a.z}));
+  EXPECT_EQ(constants["BETA_M, BETA_N, ETA"], (std::vector<float>{m.beta_m, m.beta_n, m.eta}));
+  EXPECT_EQ(constants["ALPHA_DEG"], std::vector<float>{-m.alpha_deg});
+  EXPECT_EQ(constants["FOV_Y_DEG"], std::vector<float>{want.camera.fov_deg});
+  EXPECT_EQ(constants["WIDTH, HEIGHT, SPP, MAX_DEPTH"],
+            (std::vector<float>{float(want.width), float(want.height), float(want.spp), float(want.max_depth)}));
+  const auto& c = want.camera;
+  EXPECT_EQ(constants["CAMERA_EYE, CAMERA_TARGET, CAMERA_UP"],
+            (std::vector<float>{c.eye.x, c.eye.y, c.eye.z, c.look_at.x, c.look_at.y, c.look_at.z, c.up.x, c.up.y, c.up.z}));
+  ASSERT_EQ(leds.size(), want.lights.size());
+  for (std::size_t i = 0; i < leds.size(); ++i) {
+    const ExportSphereLight& l = want.lights[i];
+    EXPECT_EQ(leds[i], (std::vector<float>{l.centre.x, l.centre.y, l.centre.z, l.radius, l.radiance.x, l.radiance.y,
+                                           l.radiance.z}));
+  }
+  if (want.card) {
+    const ExportCard& k = *want.card;
+    EXPECT_EQ(constants["CARD"], (std::vector<float>{k.centre.x, k.centre.y, k.centre.z, k.half_side, k.albedo.x,
+                                                     k.albedo.y, k.albedo.z}));
+  }
+}
+
 }  // namespace
 
 TEST(Exporters, PbrtCarriesTheSceneAndTheCurves) {
@@ -698,6 +772,17 @@ TEST(Exporters, MitsubaSceneCarriesTheSceneAndNamesTheCurves) {
   EXPECT_EQ(curves, "a&amp;b &quot;c&quot;.txt");  // escaped in the attribute
 }
 
+TEST(Exporters, BlenderScriptCarriesTheCurvesWithRadiusAndTheScene) {
+  Feather f = samples::sample_feather(9, 6);
+  f.right.ribbon_width = 0.25f;
+  f.provenance.source = "photo:a \"quoted\" \\ name.jpg";
+  const std::string text = format_blender(f, busy_scene());
+  check_blender(text, f, busy_scene());
+  EXPECT_NE(text.find("NAME = \"photo:a \\\"quoted\\\" \\\\ name.jpg\"\n"), std::string::npos);
+  EXPECT_NE(text.find("ShaderNodeBsdfHairPrincipled"), std::string::npos);
+  EXPECT_NE(text.find("bpy.ops.object.convert(target=\"CURVES\")"), std::string::npos);
+}
+
 TEST(Exporters, ObjCurvesReferenceValidVerticesAndKnots) {
   const Feather f = samples::sample_feather(9, 6);
   check_obj(format_obj(f), f);
@@ -714,19 +799,20 @@ TEST(Exporters, RandomFeathersExportToEveryFormat) {
     check_mitsuba(format_mitsuba_curves(f), f);
     check_mitsuba_scene(format_mitsuba_scene(f, scene, "f.txt"));
     check_obj(format_obj(f), f);
+    check_blender(format_blender(f, scene), f, scene);
   }
 }
 
 TEST(Exporters, FormatNames) {
   for (ExportFormat e : {ExportFormat::Fcurves, ExportFormat::Pbrt, ExportFormat::PbrtV3,
-                         ExportFormat::Mitsuba, ExportFormat::Obj})
+                         ExportFormat::Mitsuba, ExportFormat::Obj, ExportFormat::Blender})
     EXPECT_EQ(parse_export_format(to_string(e)), e);
   EXPECT_EQ(parse_export_format("pbrt-v3"), ExportFormat::PbrtV3);
   try {
     parse_export_format("usd");
     ADD_FAILURE();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("fcurves, pbrt, pbrt-v3, mitsuba, obj"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("fcurves, pbrt, pbrt-v3, mitsuba, obj, blender"), std::string::npos)
         << e.what();
   }
 }
@@ -738,7 +824,7 @@ TEST(Exporters, InvalidFeatherWritesNothing) {
   Feather bad = samples::sample_feather(2, 4);
   bad.curves[1].points[2].p.y = std::numeric_limits<float>::infinity();
   for (ExportFormat e : {ExportFormat::Fcurves, ExportFormat::Pbrt, ExportFormat::PbrtV3,
-                         ExportFormat::Mitsuba, ExportFormat::Obj}) {
+                         ExportFormat::Mitsuba, ExportFormat::Obj, ExportFormat::Blender}) {
     SCOPED_TRACE(to_string(e));
     const fs::path out = dir / (std::string("out") + default_extension(e));
     const std::string before = fs::exists(out) ? read_file(out) : "(none)";
@@ -748,12 +834,13 @@ TEST(Exporters, InvalidFeatherWritesNothing) {
     const Feather good = samples::sample_feather(2, 4);
     export_feather(out, good, e, busy_scene());
     EXPECT_EQ(read_file(out), export_text(good, e, busy_scene()));
-    if (e == ExportFormat::Mitsuba)
+    if (e == ExportFormat::Mitsuba) {
       EXPECT_EQ(read_file(mitsuba_scene_path(out)), format_mitsuba_scene(good, busy_scene(), "out.txt"));
+    }
   }
   EXPECT_EQ(read_fcurves(dir / "out.fcurves"), samples::sample_feather(2, 4));
   std::size_t files = 0;
   for ([[maybe_unused]] auto& entry : fs::directory_iterator(dir)) ++files;
-  EXPECT_EQ(files, 5u);  // out.fcurves, out.pbrt (both pbrt flavours), out.txt + out.xml, out.obj; no temporaries
+  EXPECT_EQ(files, 6u);  // out.fcurves, out.pbrt (both pbrt flavours), out.txt + out.xml, out.obj, out.py; no temporaries
   fs::remove_all(dir);
 }

@@ -34,7 +34,8 @@ constexpr FormatName kFormats[] = {{ExportFormat::Fcurves, "fcurves", ".fcurves"
                                    {ExportFormat::Pbrt, "pbrt", ".pbrt"},
                                    {ExportFormat::PbrtV3, "pbrt-v3", ".pbrt"},
                                    {ExportFormat::Mitsuba, "mitsuba", ".txt"},
-                                   {ExportFormat::Obj, "obj", ".obj"}};
+                                   {ExportFormat::Obj, "obj", ".obj"},
+                                   {ExportFormat::Blender, "blender", ".py"}};
 
 // Value of a uniform cubic B-spline at joint k (0 <= k <= n-3; joint 0 is the
 // start, joint n-3 the end), where the segment basis is (1, 4, 1) / 6. In double,
@@ -443,6 +444,218 @@ std::string format_obj(const Feather& f) {
   return out;
 }
 
+// ---------------------------------------------------------------- Blender ---
+
+// "(x, y, z)" as a Python tuple.
+std::string py_tuple(std::initializer_list<float> v) {
+  std::string r = "(";
+  bool first = true;
+  for (float x : v) {
+    if (!first) r += ", ";
+    first = false;
+    append_float(r, finite_float(x));
+  }
+  return r + ")";
+}
+
+std::string py_number(float v) {
+  std::string r;
+  append_float(r, finite_float(v));
+  return r;
+}
+
+// A Python string literal (repr-safe: printable, quotes and backslashes escaped).
+std::string py_string(const std::string& s) {
+  std::string r = "\"";
+  for (char c : one_line(s)) {
+    if (c == '"' || c == '\\') r += '\\';
+    r += c;
+  }
+  return r + "\"";
+}
+
+std::string format_blender(const Feather& f, const ExportScene& s) {
+  validate_feather(f);
+  std::string out;
+  out.reserve(8192 + f.num_control_points() * 48);
+  out += "# Blender 3.4+ script written by `plumage export`: run `blender -b -P THIS.py -o //render_ -F OPEN_EXR -f 1`\n"
+         "# to render, or `blender -P THIS.py` to open the scene. Units: 1 Blender unit = 1 mm.\n";
+  append_provenance_comment(out, f, "#");
+  append_scene_comment(out, s, "#");
+  out += "# Curves: uniform cubic B-splines (NURBS order 4, uniform knots) with the radius plumage draws\n"
+         "# them with, converted to a Curves object so that Cycles renders them as hair (ray-facing\n"
+         "# ribbons, as plumage's hair mode draws barbs). docs/exporters.md says what is approximated.\n"
+         "import math\n\nimport bpy\nfrom mathutils import Vector\n\n";
+  out += "# One tuple of (x, y, z, radius) control points per curve; the shaft first.\nCURVES = [\n";
+  for (const Curve& c : f.curves) {
+    out += "    (";
+    for (const ControlPoint& p : c.points) {
+      out += py_tuple({p.p.x, p.p.y, p.p.z, render_radius(f, c, p)});
+      out += ", ";
+    }
+    out += "),\n";
+  }
+  out += "]\n";
+  out += "SIGMA_A = " + py_tuple({s.material.sigma_a.x, s.material.sigma_a.y, s.material.sigma_a.z}) +
+         "  # per unit fibre radius, as Cycles' absorption coefficient\n";
+  out += "BETA_M, BETA_N, ETA = " + py_number(s.material.beta_m) + ", " + py_number(s.material.beta_n) + ", " +
+         py_number(s.material.eta);
+  out += "\n# Cycles' Offset follows pbrt's alpha (minus plumage's), in radians.\nALPHA_DEG = ";
+  append_float(out, -s.material.alpha_deg);
+  out += "\nCAMERA_EYE, CAMERA_TARGET, CAMERA_UP = " +
+         py_tuple({s.camera.eye.x, s.camera.eye.y, s.camera.eye.z}) + ", " +
+         py_tuple({s.camera.look_at.x, s.camera.look_at.y, s.camera.look_at.z}) + ", " +
+         py_tuple({s.camera.up.x, s.camera.up.y, s.camera.up.z}) + "\nFOV_Y_DEG = ";
+  append_float(out, s.camera.fov_deg);
+  out += "\nWIDTH, HEIGHT, SPP, MAX_DEPTH = ";
+  append_int(out, s.width);
+  out += ", ";
+  append_int(out, s.height);
+  out += ", ";
+  append_int(out, s.spp);
+  out += ", ";
+  append_int(out, s.max_depth);
+  out += "\n# Dome LEDs: (centre, radius, radiance). A Cycles point light of radius r and power P\n"
+         "# is a sphere of radiance P / (4 pi * pi r^2).\nLEDS = [\n";
+  for (const ExportSphereLight& l : s.lights)
+    out += "    (" + py_tuple({l.centre.x, l.centre.y, l.centre.z}) + ", " + py_number(l.radius) + ", " +
+           py_tuple({l.radiance.x, l.radiance.y, l.radiance.z}) + "),\n";
+  out += "]\nENVIRONMENT = ";
+  out += s.environment ? py_tuple({s.environment->x, s.environment->y, s.environment->z}) : std::string("None");
+  out += "\nCARD = ";  // (centre, half side, albedo) or None
+  out += s.card ? "(" + py_tuple({s.card->centre.x, s.card->centre.y, s.card->centre.z}) + ", " +
+                      py_number(s.card->half_side) + ", " +
+                      py_tuple({s.card->albedo.x, s.card->albedo.y, s.card->albedo.z}) + ")"
+                : std::string("None");
+  out += "\nNAME = " + py_string(f.provenance.source.empty() ? "plumage feather" : f.provenance.source) + "\n";
+  out += R"PY(
+
+def clear_scene():
+    for ob in list(bpy.data.objects):
+        bpy.data.objects.remove(ob)
+
+
+def build_curves():
+    cu = bpy.data.curves.new("feather", "CURVE")
+    cu.dimensions = "3D"
+    for points in CURVES:
+        sp = cu.splines.new("NURBS")
+        sp.points.add(len(points) - 1)
+        for p, (x, y, z, r) in zip(sp.points, points):
+            p.co = (x, y, z, 1.0)
+            p.radius = r
+        sp.order_u = 4
+        sp.use_endpoint_u = False
+    ob = bpy.data.objects.new("feather", cu)
+    bpy.context.scene.collection.objects.link(ob)
+    bpy.context.view_layer.objects.active = ob
+    ob.select_set(True)
+    bpy.ops.object.convert(target="CURVES")
+    ob = bpy.context.view_layer.objects.active
+    mat = bpy.data.materials.new("plumage hair")
+    mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    for n in list(nodes):
+        nodes.remove(n)
+    hair = nodes.new("ShaderNodeBsdfHairPrincipled")
+    hair.parametrization = "ABSORPTION"
+    hair.inputs["Absorption Coefficient"].default_value = SIGMA_A
+    hair.inputs["Roughness"].default_value = BETA_M
+    hair.inputs["Radial Roughness"].default_value = BETA_N
+    hair.inputs["Coat"].default_value = 0.0
+    hair.inputs["IOR"].default_value = ETA
+    hair.inputs["Offset"].default_value = math.radians(ALPHA_DEG)
+    hair.inputs["Random Roughness"].default_value = 0.0
+    output = nodes.new("ShaderNodeOutputMaterial")
+    mat.node_tree.links.new(hair.outputs["BSDF"], output.inputs["Surface"])
+    ob.data.materials.append(mat)
+    return ob
+
+
+def build_lights():
+    for i, (centre, radius, radiance) in enumerate(LEDS):
+        light = bpy.data.lights.new("LED %d" % (i + 1), "POINT")
+        light.shadow_soft_size = radius
+        peak = max(radiance)
+        light.color = tuple(c / peak for c in radiance) if peak > 0 else (1.0, 1.0, 1.0)
+        light.energy = peak * 4.0 * math.pi * math.pi * radius * radius
+        ob = bpy.data.objects.new("LED %d" % (i + 1), light)
+        ob.location = centre
+        bpy.context.scene.collection.objects.link(ob)
+    world = bpy.data.worlds.new("plumage world")
+    world.use_nodes = True
+    background = world.node_tree.nodes["Background"]
+    background.inputs["Color"].default_value = (*(ENVIRONMENT or (0.0, 0.0, 0.0)), 1.0)
+    background.inputs["Strength"].default_value = 1.0
+    bpy.context.scene.world = world
+    if CARD is not None:
+        (cx, cy, cz), half, albedo = CARD
+        mesh = bpy.data.meshes.new("card")
+        mesh.from_pydata([(cx - half, cy - half, cz), (cx + half, cy - half, cz), (cx + half, cy + half, cz),
+                          (cx - half, cy + half, cz)], [], [(0, 1, 2, 3)])
+        mat = bpy.data.materials.new("card")
+        mat.use_nodes = True
+        nodes = mat.node_tree.nodes
+        for n in list(nodes):
+            nodes.remove(n)
+        diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+        diffuse.inputs["Color"].default_value = (*albedo, 1.0)
+        diffuse.inputs["Roughness"].default_value = 0.0
+        output = nodes.new("ShaderNodeOutputMaterial")
+        mat.node_tree.links.new(diffuse.outputs["BSDF"], output.inputs["Surface"])
+        mesh.materials.append(mat)
+        ob = bpy.data.objects.new("card", mesh)
+        bpy.context.scene.collection.objects.link(ob)
+
+
+def build_camera_and_settings():
+    cam = bpy.data.cameras.new("camera")
+    cam.sensor_fit = "VERTICAL"
+    cam.angle_y = math.radians(FOV_Y_DEG)
+    eye = Vector(CAMERA_EYE)
+    cam.clip_start = 0.01
+    cam.clip_end = 100.0 * max(1.0, (Vector(CAMERA_TARGET) - eye).length)
+    ob = bpy.data.objects.new("camera", cam)
+    ob.location = eye
+    # Look along -Z with +Y toward CAMERA_UP.
+    forward = (Vector(CAMERA_TARGET) - eye).normalized()
+    right = forward.cross(Vector(CAMERA_UP)).normalized()
+    up = right.cross(forward)
+    from mathutils import Matrix
+    ob.rotation_euler = Matrix((right, up, -forward)).transposed().to_euler()
+    bpy.context.scene.collection.objects.link(ob)
+    scene = bpy.context.scene
+    scene.camera = ob
+    scene.render.engine = "CYCLES"
+    scene.render.resolution_x = WIDTH
+    scene.render.resolution_y = HEIGHT
+    scene.render.resolution_percentage = 100
+    scene.cycles.samples = SPP
+    scene.cycles.use_denoising = False
+    scene.cycles.use_adaptive_sampling = False
+    scene.cycles.filter_width = 1.0  # a box over the pixel, as plumage
+    scene.cycles.pixel_filter_type = "BOX"
+    # Cycles counts bounces after the first hit: plumage's depth 1 (direct light) is 0 bounces.
+    bounces = max(0, MAX_DEPTH - 1)
+    for attr in ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces",
+                 "transparent_max_bounces"):
+        setattr(scene.cycles, attr, bounces)
+    scene.cycles.sample_clamp_direct = 0.0
+    scene.cycles.sample_clamp_indirect = 0.0
+    scene.cycles.blur_glossy = 0.0
+    scene.cycles_curves.shape = "RIBBONS"
+    scene.view_settings.view_transform = "Standard"
+
+
+clear_scene()
+build_curves()
+build_lights()
+build_camera_and_settings()
+print("plumage: built %d curves for %s" % (len(CURVES), NAME))
+)PY";
+  return out;
+}
+
 std::string export_text(const Feather& f, ExportFormat format, const ExportScene& s) {
   switch (format) {
     case ExportFormat::Fcurves:
@@ -455,6 +668,8 @@ std::string export_text(const Feather& f, ExportFormat format, const ExportScene
       return format_mitsuba_curves(f);
     case ExportFormat::Obj:
       return format_obj(f);
+    case ExportFormat::Blender:
+      return format_blender(f, s);
   }
   throw Error("unknown export format");
 }

@@ -10,6 +10,9 @@
 //            between curves) and, beside it, a scene XML that loads it
 //   obj      Wavefront OBJ free-form curves (cstype bspline, deg 3, curv/parm/end), one
 //            object per curve (no radius: OBJ curves have none)
+//   blender  a Python script for Blender 3.4+ (`blender -b -P feather.py`) that builds
+//            the curves with their drawn radius as a Curves object, a Principled
+//            Hair BSDF with plumage's sigma_a, the camera, LEDs, card and depth
 // Every curve is a uniform cubic B-spline, so control points pass through unchanged.
 //
 // The scene (camera, lights, card, material, depth) is an ExportScene: plain numbers
@@ -28,9 +31,9 @@
 
 namespace plumage {
 
-enum class ExportFormat { Fcurves, Pbrt, PbrtV3, Mitsuba, Obj };
+enum class ExportFormat { Fcurves, Pbrt, PbrtV3, Mitsuba, Obj, Blender };
 
-// "fcurves", "pbrt", "pbrt-v3", "mitsuba", "obj".
+// "fcurves", "pbrt", "pbrt-v3", "mitsuba", "obj", "blender".
 const char* to_string(ExportFormat f);
 // Throws plumage::Error listing the known names.
 ExportFormat parse_export_format(std::string_view name);
@@ -88,6 +91,7 @@ std::string format_mitsuba_curves(const Feather& feather);
 std::string format_mitsuba_scene(const Feather& feather, const ExportScene& scene,
                                  const std::string& curves_filename);
 std::string format_obj(const Feather& feather);
+std::string format_blender(const Feather& feather, const ExportScene& scene);
 
 // The text of `feather` in `format` (for Mitsuba, the curves file).
 std::string export_text(const Feather& feather, ExportFormat format, const ExportScene& scene);
