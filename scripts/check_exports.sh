@@ -85,5 +85,92 @@ open(path, "w").write(s)
 EOF
 }
 
+# Images are compared with Debian's numpy and OpenImageIO bindings (the system python).
+PY=/usr/bin/python3
+need_python_modules() {
+  "$PY" -c "import numpy, OpenImageIO" 2>/dev/null && return 0
+  echo "installing python3-numpy python3-openimageio" >&2
+  apt-get install -y python3-numpy python3-openimageio >&2
+}
+
+PLUMAGE=$BUILD/plumage
+[ -x "$PLUMAGE" ] || fail "no $PLUMAGE: build plumage first (cmake --build $BUILD --target plumage)"
 build_pbrt_v3
-echo "pbrt-v3: $PBRT"
+need_python_modules
+echo "pbrt-v3: $PBRT" >&2
+mkdir -p "$OUT"
+cd "$OUT"
+"$PLUMAGE" -q generate --preset rock-dove-wing --seed 1 -o dove.fcurves
+
+# One view rendered by plumage and by pbrt-v3 from `plumage export`, plus a mask
+# of the pixels whose camera rays hit the feather (the environment seen through
+# a feather with no lights, no card and no scattering: 0 where every ray hits it).
+# render_case NAME "WIDTH FLAGS" "LIGHT FLAGS"
+render_case() {
+  local name=$1
+  local -a width lights
+  read -r -a width <<<"$2"
+  read -r -a lights <<<"$3"
+  local view=(--resolution "$RES" --spp "$SPP" "${width[@]}")
+  echo "$name: plumage render ${view[*]} ${lights[*]}" >&2
+  "$PLUMAGE" -q render dove.fcurves -o "$name.plumage.exr" "${view[@]}" "${lights[@]}" --threads "$JOBS"
+  "$PLUMAGE" -q render dove.fcurves -o "$name.mask.exr" "${view[@]}" --threads "$JOBS" \
+    --lights none --backdrop none --env 1 --max-depth 0
+  "$PLUMAGE" -q export dove.fcurves --format pbrt-v3 -o "$name.pbrt" "${view[@]}" "${lights[@]}"
+  "$PBRT" --quiet --nthreads "$JOBS" --outfile "$name.pbrt-v3.exr" "$name.pbrt"
+}
+
+render_case dome_2r "--ribbon-width 0" ""
+render_case dome_W "" ""
+render_case sky_2r "--ribbon-width 0" "--lights none --backdrop none --env 1"
+render_case sky_W "" "--lights none --backdrop none --env 1"
+
+if command -v blender >/dev/null; then
+  "$PLUMAGE" -q export dove.fcurves --format blender -o dome_W.py --resolution "$RES" --spp "$SPP"
+  blender -b --factory-startup -P dome_W.py -o "$OUT/dome_W.blender_" -F OPEN_EXR -f 1 >blender.log 2>&1 ||
+    fail "blender failed on dome_W.py: see $OUT/blender.log"
+  mv dome_W.blender_0001.exr dome_W.blender.exr
+  grep -o "plumage: built .*" blender.log >&2 || fail "dome_W.py built nothing: see $OUT/blender.log"
+else
+  echo "blender is not installed: its export is not rendered" >&2
+fi
+
+# Feather pixels: some camera ray in the pixel hits a fibre (mask below 0.98);
+# covered pixels: every ray does (mask below 0.01). Means over RGB; RMSE over
+# channel values; difference = target mean / plumage mean - 1.
+"$PY" - <<'PYEOF'
+import os, sys
+import numpy as np
+import OpenImageIO as oiio
+
+def load(path):
+    inp = oiio.ImageInput.open(path)
+    if inp is None:
+        sys.exit("check_exports: error: cannot read " + path)
+    pixels = np.asarray(inp.read_image(format="float"))[..., :3]
+    inp.close()
+    return pixels
+
+print("| view | width | renderer | pixels | plumage mean | target mean | difference | RMSE |")
+print("|---|---|---|---|---|---|---|---|")
+worst_2r = 0.0
+cases = [("dome_2r", "pbrt-v3"), ("dome_W", "pbrt-v3"), ("sky_2r", "pbrt-v3"), ("sky_W", "pbrt-v3")]
+if os.path.exists("dome_W.blender.exr"):
+    cases.append(("dome_W", "blender"))
+for name, target in cases:
+    ref, mask = load(name + ".plumage.exr"), load(name + ".mask.exr").mean(axis=2)
+    img = load(name + "." + target + ".exr")
+    view, width = name.split("_")
+    for label, sel in (("feather", mask < 0.98), ("covered", mask < 0.01)):
+        a, b = ref[sel], img[sel]
+        diff = b.mean() / a.mean() - 1
+        rmse = np.sqrt(((b - a) ** 2).mean())
+        print(f"| {view} | {width} | {target} | {label} ({sel.sum()}) | {a.mean():.4f} | {b.mean():.4f} | {100 * diff:+.1f} % | {rmse:.4f} |")
+        if width == "2r" and label == "feather" and target == "pbrt-v3":
+            worst_2r = max(worst_2r, abs(diff))
+print()
+if worst_2r > 0.03:
+    print(f"FAIL: the 2r export differs from plumage by {100 * worst_2r:.1f} % on feather pixels (bound 3 %)")
+    sys.exit(1)
+print(f"OK: the 2r export is within {100 * worst_2r:.1f} % of plumage on feather pixels (bound 3 %)")
+PYEOF
