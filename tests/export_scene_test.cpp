@@ -111,7 +111,7 @@ TEST_P(ExportSceneTest, IsWhatTheRendererRenders) {
       SceneOptions hair = so;
       hair.mode = ShadingMode::Hair;
       const Scene scene(feather, hair);  // the renderer's own, all curves built
-      const AxisBox& fb = scene.feather_bounds();
+      const auto& fb = scene.feather_bounds();
 
       // Width: barbs at W / 2 (not their own radius), as the scene draws them.
       float widest = 0;

@@ -19,9 +19,9 @@ ExportScene export_scene(const Feather& feather, const DomeRig& rig, const ViewS
   // hair mode has the same bounds as substructure mode (render_radius).
   SceneOptions framing;
   framing.backdrop = options.backdrop;
-  framing.cull = [](const AxisBox&, float) -> CurveKeep { return [](const AxisBox&) { return false; }; };
+  framing.cull = [](const auto&, float) -> CurveKeep { return [](const auto&) { return false; }; };
   const Scene scene(feather, framing);
-  const AxisBox& fb = scene.feather_bounds();
+  const auto& fb = scene.feather_bounds();
 
   ExportScene s;
   s.width = view.width;
@@ -42,7 +42,7 @@ ExportScene export_scene(const Feather& feather, const DomeRig& rig, const ViewS
 
   if (options.backdrop.enabled) {
     // The card is the square the scene's bounds grow to in x and y.
-    const AxisBox& sb = scene.scene_bounds();
+    const auto& sb = scene.scene_bounds();
     s.card = ExportCard{{sb.centre().x, sb.centre().y, scene.backdrop_z()}, 0.5f * sb.size().x, options.backdrop.albedo};
   }
 
