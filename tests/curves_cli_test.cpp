@@ -79,8 +79,9 @@ TEST_F(CurvesCli, ExportWritesTheChosenFormat) {
       scene.image_filename = fs::path(c.out).stem().string() + ".exr";
     }
     EXPECT_EQ(read_file(dir_ / c.out), export_text(feather_, c.format, scene));
-    if (c.format == ExportFormat::PbrtV3)
+    if (c.format == ExportFormat::PbrtV3) {
       EXPECT_NE(read_file(dir_ / c.out).find("the albedo texture is not exported"), std::string::npos);
+    }
   }
   EXPECT_EQ(read_fcurves(dir_ / "e.fcurves"), feather_);
 }
