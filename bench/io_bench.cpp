@@ -43,7 +43,7 @@ void BM_Export(benchmark::State& state) {
   const plumage::Feather& f = thousand_barbs();
   std::size_t bytes = 0;
   for (auto _ : state) {
-    std::string text = plumage::export_text(f, format);
+    std::string text = plumage::export_text(f, format, plumage::ExportScene{});
     bytes = text.size();
     benchmark::DoNotOptimize(text.data());
   }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -13,6 +14,8 @@
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/curve_format.h"
 #include "plumage/common/exporters.h"
+#include "plumage/common/image.h"
+#include "plumage/renderer/export_scene.h"
 
 using namespace plumage;
 namespace fs = std::filesystem;
@@ -50,6 +53,8 @@ class CurvesCli : public ::testing::Test {
 // library loaded), so these tests run it a dozen times in all; the formats
 // themselves are checked in-process by exporters_test.cpp.
 TEST_F(CurvesCli, ExportWritesTheChosenFormat) {
+  // The scene formats take the fibres' absorption from the albedo texture, as a render does.
+  write_image(dir_ / "albedo.png", Image(4, 4, 3, 0.3f));
   const struct {
     const char* flag;
     const char* out;
@@ -62,9 +67,22 @@ TEST_F(CurvesCli, ExportWritesTheChosenFormat) {
     const Result r = run("export " + path("f.fcurves") + " " + c.flag + " -o " + path(c.out));
     ASSERT_EQ(r.rc, 0) << r.err;
     EXPECT_NE(r.out.find("1 shaft, 6 barbs"), std::string::npos) << r.out;
-    ExportOptions options;
-    options.image_filename = fs::path(c.out).stem().string() + ".exr";
-    EXPECT_EQ(read_file(dir_ / c.out), export_text(feather_, c.format, options));
+    // The CLI's defaults: a 512x512 view at 64 spp, every LED, the white card.
+    ExportScene scene;
+    if (c.format == ExportFormat::PbrtV3) {
+      ViewSpec view;
+      view.width = view.height = 512;
+      view.spp = 64;
+      view.base_dir = dir_;
+      SceneOptions so;
+      so.backdrop = {true, glm::vec3(0.8f)};
+      scene = export_scene(feather_, read_dome_rig(std::string(PLUMAGE_DATA_DIR) + "/rigs/dome25.json"), view, so);
+      scene.image_filename = fs::path(c.out).stem().string() + ".exr";
+    }
+    EXPECT_EQ(read_file(dir_ / c.out), export_text(feather_, c.format, scene));
+    if (c.format == ExportFormat::PbrtV3) {
+      EXPECT_NE(read_file(dir_ / c.out).find("the albedo texture is not exported"), std::string::npos);
+    }
   }
   EXPECT_EQ(read_fcurves(dir_ / "e.fcurves"), feather_);
 }
@@ -86,6 +104,38 @@ TEST_F(CurvesCli, ExportFailuresExitOneAndLeaveNoPartialOutput) {
   EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
 
   // Nothing new in the directory: no output, no temporary file.
+  EXPECT_EQ(files_in_dir(), before);
+}
+
+// The view options reach the exported scene: the chosen LEDs, a constant
+// environment, the depth, the width override and the mode; a bad LED number is a
+// one-line error that leaves no output.
+TEST_F(CurvesCli, ExportTakesTheViewOptions) {
+  write_image(dir_ / "albedo.png", Image(4, 4, 3, 0.3f));
+  Result r = run("export " + path("f.fcurves") + " --format pbrt-v3 -o " + path("v.pbrt") +
+                 " --lights 2,4-5 --env 0.5 --max-depth 4 --ribbon-width 0.2 --shading substructure --alpha 3");
+  ASSERT_EQ(r.rc, 0) << r.err;
+  const std::string text = read_file(dir_ / "v.pbrt");
+  std::size_t leds = 0;
+  for (std::size_t at = text.find("Shape \"sphere\""); at != std::string::npos; at = text.find("Shape \"sphere\"", at + 1)) ++leds;
+  EXPECT_EQ(leds, 3u);
+  EXPECT_NE(text.find("LightSource \"infinite\" \"rgb L\" [ 0.5 0.5 0.5 ]"), std::string::npos);
+  EXPECT_NE(text.find("\"integer maxdepth\" [ 4 ]"), std::string::npos);
+  EXPECT_NE(text.find("\"float alpha\" [ -3 ]"), std::string::npos);
+  EXPECT_NE(text.find("\"string type\" [ \"flat\" ]"), std::string::npos);
+  EXPECT_NE(text.find("\"float width0\" [ 0.2 ]"), std::string::npos);
+  EXPECT_NE(text.find("substructure mode (rami and barbules inside each barb) has no counterpart"), std::string::npos);
+
+  r = run("export " + path("f.fcurves") + " --format mitsuba -o " + path("m.txt"));
+  ASSERT_EQ(r.rc, 0) << r.err;
+  EXPECT_NE(r.out.find("m.xml (Mitsuba 3 scene)"), std::string::npos) << r.out;
+  EXPECT_NE(read_file(dir_ / "m.xml").find("value=\"m.txt\""), std::string::npos);
+
+  const std::size_t before = files_in_dir();
+  r = run("export " + path("f.fcurves") + " --format pbrt -o " + path("bad.pbrt") + " --lights 26");
+  EXPECT_EQ(r.rc, 1);
+  EXPECT_EQ(r.err.rfind("plumage: error: ", 0), 0u) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_EQ(files_in_dir(), before);
 }
 

@@ -6,9 +6,12 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <numbers>
+#include <optional>
 #include <random>
 #include <set>
 #include <sstream>
@@ -121,14 +124,53 @@ std::vector<PbrtStatement> parse_pbrt(const std::string& text) {
   return out;
 }
 
-void check_pbrt(const std::string& text, const Feather& f, bool v4) {
-  const std::set<std::string> known = {
-      "Scale",    "LookAt",      "Camera",         "Sampler",      "Integrator", "Film", "WorldBegin",
-      "WorldEnd", "LightSource", "AttributeBegin", "AttributeEnd", "Material",   "Shape"};
+// The radius plumage draws a control point with (DESIGN §4), written out here
+// from the design rather than taken from render_radius().
+float drawn_radius(const Feather& f, const Curve& c, const ControlPoint& p) {
+  if (c.kind == CurveKind::Shaft) return p.radius;
+  const float w = (c.side == VaneSide::Right ? f.right : f.left).ribbon_width;
+  return w > 0 ? w / 2 : p.radius;
+}
+
+glm::vec3 vec3_of(const std::vector<std::string>& v, std::size_t at = 0) {
+  EXPECT_GE(v.size(), at + 3);
+  if (v.size() < at + 3) return glm::vec3(0);
+  return {to_f(v[at]), to_f(v[at + 1]), to_f(v[at + 2])};
+}
+
+float float_param(const PbrtStatement& s, const std::string& name) {
+  EXPECT_TRUE(s.params.count(name)) << s.directive << " has no " << name;
+  if (!s.params.count(name)) return std::nanf("");
+  EXPECT_EQ(s.params.at(name).values.size(), 1u) << name;
+  return to_f(s.params.at(name).values.at(0));
+}
+
+// What a pbrt file says, read back: its camera, lights, card, material and curves.
+struct PbrtScene {
+  std::vector<float> look_at;  // 9 numbers
+  bool mirrored = false;       // Scale -1 1 1 before LookAt
+  float fov = 0;
+  int spp = 0, max_depth = -1, width = 0, height = 0;
+  std::vector<ExportSphereLight> lights;
+  std::optional<glm::vec3> environment;
+  std::vector<glm::vec3> card_corners;
+  glm::vec3 card_albedo{0};
+  std::optional<PbrtStatement> hair;
+};
+
+PbrtScene check_pbrt(const std::string& text, const Feather& f, bool v4) {
+  const std::set<std::string> known = {"Scale",          "LookAt",          "Camera",       "Sampler",
+                                       "Integrator",     "PixelFilter",     "Film",         "WorldBegin",
+                                       "WorldEnd",       "LightSource",     "AttributeBegin", "AttributeEnd",
+                                       "AreaLightSource", "Translate",      "Material",     "Shape"};
+  PbrtScene scene;
   const auto statements = parse_pbrt(text);
-  ASSERT_FALSE(statements.empty());
+  EXPECT_FALSE(statements.empty());
   int depth = 0;
-  bool world = false, material = false;
+  bool world = false;
+  std::string material;  // of the current attribute block
+  bool emitting = false;
+  glm::vec3 area_L(0), translate(0);
   std::size_t curve = 0;
   for (const PbrtStatement& s : statements) {
     SCOPED_TRACE(s.directive);
@@ -137,67 +179,112 @@ void check_pbrt(const std::string& text, const Feather& f, bool v4) {
     if (s.directive == "WorldEnd") {
       EXPECT_FALSE(v4) << "pbrt-v4 has no WorldEnd";
     }
+    if (s.directive == "Scale") scene.mirrored = s.args == std::vector<std::string>{"-1", "1", "1"} && !world;
     if (s.directive == "AttributeBegin") ++depth;
     if (s.directive == "AttributeEnd") {
       EXPECT_GE(--depth, 0);
+      material.clear();
+      emitting = false;
+      translate = glm::vec3(0);
     }
     if (s.directive == "LookAt") {
       EXPECT_EQ(s.args.size(), 9u);
-      for (const std::string& a : s.args) EXPECT_TRUE(std::isfinite(to_f(a))) << a;
+      for (const std::string& a : s.args) scene.look_at.push_back(to_f(a));
     }
+    if (s.directive == "Camera") {
+      EXPECT_EQ(s.args, std::vector<std::string>{"perspective"});
+      scene.fov = float_param(s, "fov");
+    }
+    if (s.directive == "Sampler") scene.spp = int(float_param(s, "pixelsamples"));
+    if (s.directive == "Integrator") {
+      EXPECT_EQ(s.args, std::vector<std::string>{v4 ? "volpath" : "path"});
+      scene.max_depth = int(float_param(s, "maxdepth"));
+    }
+    if (s.directive == "PixelFilter") {
+      EXPECT_EQ(s.args, std::vector<std::string>{"box"});
+    }
+    if (s.directive == "Film") {
+      scene.width = int(float_param(s, "xresolution"));
+      scene.height = int(float_param(s, "yresolution"));
+    }
+    if (s.directive == "LightSource") {
+      EXPECT_EQ(s.args, std::vector<std::string>{"infinite"});
+      scene.environment = vec3_of(s.params.at("L").values);
+    }
+    if (s.directive == "AreaLightSource") {
+      EXPECT_EQ(s.args, std::vector<std::string>{"diffuse"});
+      EXPECT_EQ(s.params.at("L").type, "rgb");
+      area_L = vec3_of(s.params.at("L").values);
+      emitting = true;
+    }
+    if (s.directive == "Translate") translate = vec3_of(s.args);
     if (s.directive == "Material") {
-      ASSERT_EQ(s.args.size(), 1u);
-      EXPECT_EQ(s.args[0], "hair");
-      const char* key = v4 ? "reflectance" : "color";
-      ASSERT_TRUE(s.params.count(key));
-      EXPECT_EQ(s.params.at(key).type, "rgb");
-      ASSERT_EQ(s.params.at(key).values.size(), 3u);
-      for (int c = 0; c < 3; ++c) EXPECT_EQ(to_f(s.params.at(key).values[c]), f.albedo.color[c]);
-      material = true;
+      EXPECT_TRUE(world);
+      EXPECT_EQ(s.args.size(), 1u);
+      material = s.args.at(0);
+      if (material == "hair") {
+        // The absorption itself: pbrt's "color"/"reflectance" would apply pbrt's own albedo mapping.
+        EXPECT_EQ(s.params.at("sigma_a").type, "rgb");
+        EXPECT_FALSE(s.params.count("color") || s.params.count("reflectance"));
+        scene.hair = s;
+      } else {
+        EXPECT_EQ(material, v4 ? "diffuse" : "matte");
+        scene.card_albedo = vec3_of(s.params.at(v4 ? "reflectance" : "Kd").values);
+      }
     }
     if (s.directive != "Shape") continue;
-    EXPECT_TRUE(world && material) << "shape before WorldBegin or the material";
-    ASSERT_EQ(s.args, std::vector<std::string>{"curve"});
-    ASSERT_LT(curve, f.curves.size());
+    EXPECT_TRUE(world) << "shape before WorldBegin";
+    EXPECT_EQ(depth, 1) << "every shape sits in its own attribute block";
+    if (s.args == std::vector<std::string>{"sphere"}) {
+      EXPECT_TRUE(emitting) << "a sphere is an LED: emitting, placed by Translate";
+      scene.lights.push_back({translate, float_param(s, "radius"), area_L});
+      continue;
+    }
+    if (s.args == std::vector<std::string>{"trianglemesh"}) {
+      EXPECT_EQ(material, v4 ? "diffuse" : "matte");
+      const auto& P = s.params.at("P");
+      EXPECT_EQ(P.type, v4 ? "point3" : "point");
+      EXPECT_EQ(P.values.size(), 12u);
+      for (std::size_t k = 0; k + 2 < P.values.size(); k += 3) scene.card_corners.push_back(vec3_of(P.values, k));
+      EXPECT_EQ(s.params.at("indices").values, (std::vector<std::string>{"0", "1", "2", "0", "2", "3"}));
+      continue;
+    }
+    EXPECT_EQ(s.args, std::vector<std::string>{"curve"});
+    EXPECT_EQ(material, "hair") << "a curve without the hair material";
+    if (curve >= f.curves.size()) {
+      ADD_FAILURE() << "more curves than the feather has";
+      continue;
+    }
     const Curve& c = f.curves[curve++];
     const std::size_t n = c.points.size();
     EXPECT_EQ(s.params.at("basis").values, std::vector<std::string>{"bspline"});
     const PbrtParam& P = s.params.at("P");
     EXPECT_EQ(P.type, v4 ? "point3" : "point");
-    ASSERT_EQ(P.values.size(), 3 * n);
+    EXPECT_EQ(P.values.size(), 3 * n);
+    if (P.values.size() != 3 * n) continue;
     for (std::size_t k = 0; k < n; ++k)
       for (int a = 0; a < 3; ++a) EXPECT_EQ(to_f(P.values[3 * k + a]), c.points[k].p[a]);
-    // Widths are the full width (2 r) of the radius B-spline at the curve's ends,
-    // held inside the float range.
-    const auto& r = c.points;
+    // Widths are the full width (2 r) of the drawn radius B-spline at the curve's
+    // ends, held inside the float range.
     auto full_width = [&](std::size_t k) {
-      const double w = (double(r[k].radius) + 4.0 * r[k + 1].radius + r[k + 2].radius) / 3.0;
+      const auto r = [&](std::size_t i) { return double(drawn_radius(f, c, c.points[i])); };
+      const double w = (r(k) + 4.0 * r(k + 1) + r(k + 2)) / 3.0;
       return std::min(w, double(std::numeric_limits<float>::max()));
     };
-    const double w0 = to_f(s.params.at("width0").values.at(0)), w1 = to_f(s.params.at("width1").values.at(0));
+    const double w0 = float_param(s, "width0"), w1 = float_param(s, "width1");
     EXPECT_NEAR(w0, full_width(0), 1e-6 * full_width(0) + 1e-38);
     EXPECT_NEAR(w1, full_width(n - 3), 1e-6 * full_width(n - 3) + 1e-38);
-    const std::string type = s.params.at("type").values.at(0);
-    if (c.kind == CurveKind::Shaft) {
-      EXPECT_EQ(type, "cylinder");
-      EXPECT_FALSE(s.params.count("N"));
-    } else {
-      EXPECT_EQ(type, "ribbon");
-      const PbrtParam& N = s.params.at("N");
-      EXPECT_EQ(N.type, "normal");
-      // pbrt: a ribbon needs one normal per segment joint, (n - 3) + 1 of them.
-      ASSERT_EQ(N.values.size(), 3 * (n - 2));
-      for (std::size_t k = 0; k + 2 < n; ++k) {
-        const glm::vec3 v(to_f(N.values[3 * k]), to_f(N.values[3 * k + 1]), to_f(N.values[3 * k + 2]));
-        EXPECT_NEAR(glm::length(v), 1.0f, 1e-5f);
-      }
-    }
+    // Hair mode's barbs face the ray ("flat"); the shaft is round.
+    EXPECT_EQ(s.params.at("type").values.at(0), c.kind == CurveKind::Shaft ? "cylinder" : "flat");
+    EXPECT_FALSE(s.params.count("N"));
   }
   EXPECT_EQ(curve, f.curves.size());
   EXPECT_EQ(depth, 0);
+  EXPECT_TRUE(scene.hair.has_value() || f.curves.empty());
   if (!v4) {
     EXPECT_EQ(statements.back().directive, "WorldEnd");
   }
+  return scene;
 }
 
 // -------------------------------------------------------------- mitsuba ---
@@ -227,7 +314,7 @@ void check_mitsuba(const std::string& text, const Feather& f) {
     ASSERT_GE(curves[i].size(), 4u);
     for (std::size_t k = 0; k < curves[i].size(); ++k) {
       const ControlPoint& p = f.curves[i].points[k];
-      EXPECT_EQ(curves[i][k], glm::vec4(p.p, p.radius));
+      EXPECT_EQ(curves[i][k], glm::vec4(p.p, drawn_radius(f, f.curves[i], p)));
     }
   }
 }
@@ -309,23 +396,391 @@ void check_obj(const std::string& text, const Feather& f) {
   EXPECT_EQ(v.size(), f.num_control_points());
 }
 
-}  // namespace
+// ------------------------------------------------------- mitsuba scene ---
+// Just enough XML for the scene file: a prolog, comments, elements with quoted
+// attributes, no text content.
+struct XmlElement {
+  std::string tag;
+  std::map<std::string, std::string> attrs;
+  std::vector<XmlElement> children;
+  const XmlElement* child(const std::string& tag, const std::string& name = "") const {
+    for (const XmlElement& c : children)
+      if (c.tag == tag && (name.empty() || (c.attrs.count("name") && c.attrs.at("name") == name))) return &c;
+    return nullptr;
+  }
+  std::vector<const XmlElement*> all(const std::string& tag, const std::string& type = "") const {
+    std::vector<const XmlElement*> r;
+    for (const XmlElement& c : children)
+      if (c.tag == tag && (type.empty() || (c.attrs.count("type") && c.attrs.at("type") == type))) r.push_back(&c);
+    return r;
+  }
+  std::string value(const std::string& tag, const std::string& name) const {
+    const XmlElement* c = child(tag, name);
+    EXPECT_NE(c, nullptr) << "<" << tag << " name=\"" << name << "\"> missing in <" << this->tag << ">";
+    return c && c->attrs.count("value") ? c->attrs.at("value") : "";
+  }
+};
 
-TEST(Exporters, PbrtV4IsWellFormedAndCarriesTheCurves) {
-  const Feather f = samples::sample_feather(9, 6);
-  check_pbrt(format_pbrt_v4(f), f, true);
+struct XmlReader {
+  const std::string& t;
+  std::size_t i = 0;
+  void skip() {
+    for (;;) {
+      while (i < t.size() && std::isspace(static_cast<unsigned char>(t[i]))) ++i;
+      if (t.compare(i, 4, "<!--") == 0) {
+        const std::size_t e = t.find("-->", i + 4);
+        EXPECT_NE(e, std::string::npos) << "unterminated comment";
+        EXPECT_EQ(t.substr(i + 4, e - i - 4).find("--"), std::string::npos) << "'--' inside a comment";
+        i = e == std::string::npos ? t.size() : e + 3;
+      } else if (t.compare(i, 2, "<?") == 0) {
+        const std::size_t e = t.find("?>", i);
+        i = e == std::string::npos ? t.size() : e + 2;
+      } else {
+        return;
+      }
+    }
+  }
+  std::string name() {
+    const std::size_t b = i;
+    while (i < t.size() && (std::isalnum(static_cast<unsigned char>(t[i])) || t[i] == '_')) ++i;
+    return t.substr(b, i - b);
+  }
+  XmlElement element() {
+    XmlElement e;
+    skip();
+    EXPECT_EQ(t[i], '<');
+    ++i;
+    e.tag = name();
+    for (;;) {
+      while (std::isspace(static_cast<unsigned char>(t[i]))) ++i;
+      if (t.compare(i, 2, "/>") == 0) {
+        i += 2;
+        return e;
+      }
+      if (t[i] == '>') {
+        ++i;
+        break;
+      }
+      const std::string key = name();
+      EXPECT_FALSE(key.empty()) << "bad attribute at " << i;
+      if (key.empty()) return e;
+      EXPECT_EQ(t[i], '=');
+      EXPECT_EQ(t[i + 1], '"');
+      const std::size_t close = t.find('"', i + 2);
+      std::string v = t.substr(i + 2, close - i - 2);
+      EXPECT_EQ(v.find('<'), std::string::npos);
+      EXPECT_FALSE(e.attrs.count(key)) << "attribute given twice: " << key;
+      e.attrs[key] = v;
+      i = close + 1;
+    }
+    for (;;) {
+      skip();
+      if (t.compare(i, 2, "</") == 0) {
+        i += 2;
+        EXPECT_EQ(name(), e.tag) << "mismatched closing tag";
+        EXPECT_EQ(t[i], '>');
+        ++i;
+        return e;
+      }
+      if (i >= t.size()) {
+        ADD_FAILURE() << "<" << e.tag << "> not closed";
+        return e;
+      }
+      e.children.push_back(element());
+    }
+  }
+};
+
+XmlElement parse_xml(const std::string& text) {
+  XmlReader r{text};
+  XmlElement root = r.element();
+  r.skip();
+  EXPECT_EQ(r.i, text.size()) << "text after the root element";
+  return root;
 }
 
-TEST(Exporters, PbrtV3IsWellFormedAndCarriesTheCurves) {
+// "x, y, z"
+glm::vec3 xml_vec3(const std::string& v) {
+  glm::vec3 r(0);
+  EXPECT_EQ(std::sscanf(v.c_str(), "%f, %f, %f", &r.x, &r.y, &r.z), 3) << v;
+  return r;
+}
+
+// The Mitsuba scene read back into an ExportScene (and the curves file it names).
+ExportScene check_mitsuba_scene(const std::string& text, std::string* curves_file = nullptr) {
+  ExportScene s;
+  const XmlElement scene = parse_xml(text);
+  EXPECT_EQ(scene.tag, "scene");
+  EXPECT_EQ(scene.attrs.at("version"), "3.0.0");
+  const auto integrators = scene.all("integrator", "path");
+  EXPECT_EQ(integrators.size(), 1u);
+  if (!integrators.empty()) s.max_depth = std::stoi(integrators[0]->value("integer", "max_depth")) - 1;
+  const auto sensors = scene.all("sensor", "perspective");
+  EXPECT_EQ(sensors.size(), 1u);
+  if (!sensors.empty()) {
+    const XmlElement& c = *sensors[0];
+    s.camera.fov_deg = to_f(c.value("float", "fov"));
+    EXPECT_EQ(c.value("string", "fov_axis"), "y");
+    const XmlElement* look = c.child("transform", "to_world") ? c.child("transform", "to_world")->child("lookat") : nullptr;
+    EXPECT_NE(look, nullptr);
+    if (look) {
+      s.camera.eye = xml_vec3(look->attrs.at("origin"));
+      s.camera.look_at = xml_vec3(look->attrs.at("target"));
+      s.camera.up = xml_vec3(look->attrs.at("up"));
+    }
+    s.spp = std::stoi(c.child("sampler")->value("integer", "sample_count"));
+    const XmlElement* film = c.child("film");
+    s.width = std::stoi(film->value("integer", "width"));
+    s.height = std::stoi(film->value("integer", "height"));
+    EXPECT_EQ(film->child("rfilter")->attrs.at("type"), "box");
+  }
+  for (const XmlElement* sphere : scene.all("shape", "sphere")) {
+    const XmlElement* emitter = sphere->child("emitter");
+    EXPECT_TRUE(emitter && emitter->attrs.at("type") == "area");
+    s.lights.push_back({xml_vec3(sphere->value("point", "center")), to_f(sphere->value("float", "radius")),
+                        emitter ? xml_vec3(emitter->value("rgb", "radiance")) : glm::vec3(0)});
+  }
+  for (const XmlElement* env : scene.all("emitter", "constant")) s.environment = xml_vec3(env->value("rgb", "radiance"));
+  for (const XmlElement* rect : scene.all("shape", "rectangle")) {
+    const XmlElement* tw = rect->child("transform", "to_world");
+    const glm::vec3 scale = xml_vec3(tw->child("scale")->attrs.at("value"));
+    EXPECT_EQ(scale.x, scale.y);
+    EXPECT_EQ(scale.z, 1.0f);
+    EXPECT_EQ(tw->children.at(0).tag, "scale") << "scale, then translate";
+    const XmlElement* bsdf = rect->child("bsdf");
+    EXPECT_EQ(bsdf->attrs.at("type"), "diffuse");
+    s.card = ExportCard{xml_vec3(tw->child("translate")->attrs.at("value")), scale.x, xml_vec3(bsdf->value("rgb", "reflectance"))};
+  }
+  const auto curves = scene.all("shape", "bsplinecurve");
+  EXPECT_EQ(curves.size(), 1u);
+  if (!curves.empty()) {
+    if (curves_file) *curves_file = curves[0]->value("string", "filename");
+    const XmlElement* hair = curves[0]->child("bsdf");
+    EXPECT_EQ(hair->attrs.at("type"), "hair");
+    s.material.sigma_a = xml_vec3(hair->value("rgb", "sigma_a"));
+    s.material.beta_m = to_f(hair->value("float", "longitudinal_roughness"));
+    s.material.beta_n = to_f(hair->value("float", "azimuthal_roughness"));
+    s.material.alpha_deg = -to_f(hair->value("float", "scale_tilt"));  // Mitsuba's sign is pbrt's
+    EXPECT_EQ(to_f(hair->value("float", "ext_ior")), 1.0f);
+    s.material.eta = to_f(hair->value("float", "int_ior"));
+  }
+  return s;
+}
+
+// A scene with a bit of everything, nothing at its default value.
+ExportScene busy_scene() {
+  ExportScene s;
+  s.image_filename = "busy.exr";
+  s.width = 300;
+  s.height = 200;
+  s.spp = 17;
+  s.max_depth = 5;
+  s.camera = {{1, 2, 300}, {1, 2, 0}, {0, 1, 0}, 25};
+  s.lights = {{{10, 20, 250}, 2.5f, {700, 710, 720}}, {{-40, 5, 240}, 3, {1, 2, 3}}};
+  s.environment = glm::vec3(0.25f, 0.5f, 0.75f);
+  s.card = ExportCard{{1, 2, -3}, 150, {0.8f, 0.7f, 0.6f}};
+  s.material = {{0.49f, 0.48f, 0.45f}, 0.25f, 0.35f, 2.5f, 1.5f};
+  return s;
+}
+
+void expect_same_scene(const ExportScene& got, const ExportScene& want, bool pbrt_fov) {
+  EXPECT_EQ(got.width, want.width);
+  EXPECT_EQ(got.height, want.height);
+  EXPECT_EQ(got.spp, want.spp);
+  EXPECT_EQ(got.max_depth, want.max_depth);
+  EXPECT_EQ(got.camera.eye, want.camera.eye);
+  EXPECT_EQ(got.camera.look_at, want.camera.look_at);
+  EXPECT_EQ(got.camera.up, want.camera.up);
+  EXPECT_EQ(got.camera.fov_deg, pbrt_fov ? pbrt_fov_deg(want) : want.camera.fov_deg);
+  ASSERT_EQ(got.lights.size(), want.lights.size());
+  for (std::size_t i = 0; i < got.lights.size(); ++i) {
+    EXPECT_EQ(got.lights[i].centre, want.lights[i].centre) << "light " << i;
+    EXPECT_EQ(got.lights[i].radius, want.lights[i].radius) << "light " << i;
+    EXPECT_EQ(got.lights[i].radiance, want.lights[i].radiance) << "light " << i;
+  }
+  EXPECT_EQ(got.environment, want.environment);
+  EXPECT_EQ(got.material.sigma_a, want.material.sigma_a);
+  EXPECT_EQ(got.material.beta_m, want.material.beta_m);
+  EXPECT_EQ(got.material.beta_n, want.material.beta_n);
+  EXPECT_EQ(got.material.alpha_deg, want.material.alpha_deg);
+  EXPECT_EQ(got.material.eta, want.material.eta);
+}
+
+// A pbrt file's scene as an ExportScene (fov as pbrt has it), for expect_same_scene.
+ExportScene as_export_scene(const PbrtScene& p, bool v4) {
+  ExportScene s;
+  s.width = p.width;
+  s.height = p.height;
+  s.spp = p.spp;
+  s.max_depth = p.max_depth;
+  if (p.look_at.size() == 9)
+    s.camera = {{p.look_at[0], p.look_at[1], p.look_at[2]}, {p.look_at[3], p.look_at[4], p.look_at[5]},
+                {p.look_at[6], p.look_at[7], p.look_at[8]}, p.fov};
+  s.lights = p.lights;
+  s.environment = p.environment;
+  if (p.hair) {
+    s.material.sigma_a = vec3_of(p.hair->params.at("sigma_a").values);
+    s.material.beta_m = float_param(*p.hair, "beta_m");
+    s.material.beta_n = float_param(*p.hair, "beta_n");
+    s.material.alpha_deg = -float_param(*p.hair, "alpha");  // pbrt's sign is the opposite of plumage's
+    s.material.eta = float_param(*p.hair, "eta");
+  }
+  (void)v4;
+  return s;
+}
+
+// ---------------------------------------------------------------- blender ---
+// Every number on a line of Python (tuples of floats and ints).
+std::vector<float> py_numbers(const std::string& line) {
+  std::vector<float> out;
+  for (std::size_t i = 0; i < line.size();) {
+    const char c = line[i];
+    if (c == '#') break;
+    if (std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '.') {
+      char* end = nullptr;
+      const float v = std::strtof(line.c_str() + i, &end);
+      const std::size_t next = std::size_t(end - line.c_str());
+      if (next == i) {  // a lone '-' or '.'
+        ++i;
+        continue;
+      }
+      out.push_back(v);
+      i = next;
+    } else {
+      ++i;
+    }
+  }
+  return out;
+}
+
+// The script's data block read back: its curves and the scene's numbers.
+void check_blender(const std::string& text, const Feather& f, const ExportScene& want) {
+  std::istringstream in(text);
+  std::string line;
+  std::map<std::string, std::vector<float>> constants;
+  std::vector<std::vector<float>> curves, leds;
+  std::vector<std::vector<float>>* list = nullptr;
+  while (std::getline(in, line)) {
+    if (line == "CURVES = [") list = &curves;
+    else if (line == "LEDS = [") list = &leds;
+    else if (line == "]") list = nullptr;
+    else if (list) list->push_back(py_numbers(line));
+    else if (const std::size_t eq = line.find(" = "); eq != std::string::npos && std::isupper(static_cast<unsigned char>(line[0])))
+      constants[line.substr(0, eq)] = py_numbers(line.substr(eq + 3));
+  }
+  ASSERT_EQ(curves.size(), f.curves.size());
+  for (std::size_t i = 0; i < curves.size(); ++i) {
+    const Curve& c = f.curves[i];
+    ASSERT_EQ(curves[i].size(), 4 * c.points.size()) << "curve " << i;
+    for (std::size_t k = 0; k < c.points.size(); ++k)
+      EXPECT_EQ(glm::vec4(curves[i][4 * k], curves[i][4 * k + 1], curves[i][4 * k + 2], curves[i][4 * k + 3]),
+                glm::vec4(c.points[k].p, drawn_radius(f, c, c.points[k])));
+  }
+  const auto& m = want.material;
+  EXPECT_EQ(constants["SIGMA_A"], (std::vector<float>{m.sigma_a.x, m.sigma_a.y, m.sigma_a.z}));
+  EXPECT_EQ(constants["BETA_M, BETA_N, ETA"], (std::vector<float>{m.beta_m, m.beta_n, m.eta}));
+  EXPECT_EQ(constants["ALPHA_DEG"], std::vector<float>{-m.alpha_deg});
+  EXPECT_EQ(constants["FOV_Y_DEG"], std::vector<float>{want.camera.fov_deg});
+  EXPECT_EQ(constants["WIDTH, HEIGHT, SPP, MAX_DEPTH"],
+            (std::vector<float>{float(want.width), float(want.height), float(want.spp), float(want.max_depth)}));
+  const auto& c = want.camera;
+  EXPECT_EQ(constants["CAMERA_EYE, CAMERA_TARGET, CAMERA_UP"],
+            (std::vector<float>{c.eye.x, c.eye.y, c.eye.z, c.look_at.x, c.look_at.y, c.look_at.z, c.up.x, c.up.y, c.up.z}));
+  ASSERT_EQ(leds.size(), want.lights.size());
+  for (std::size_t i = 0; i < leds.size(); ++i) {
+    const ExportSphereLight& l = want.lights[i];
+    EXPECT_EQ(leds[i], (std::vector<float>{l.centre.x, l.centre.y, l.centre.z, l.radius, l.radiance.x, l.radiance.y,
+                                           l.radiance.z}));
+  }
+  if (want.card) {
+    const ExportCard& k = *want.card;
+    EXPECT_EQ(constants["CARD"], (std::vector<float>{k.centre.x, k.centre.y, k.centre.z, k.half_side, k.albedo.x,
+                                                     k.albedo.y, k.albedo.z}));
+  }
+}
+
+}  // namespace
+
+TEST(Exporters, PbrtCarriesTheSceneAndTheCurves) {
   const Feather f = samples::sample_feather(9, 6);
-  check_pbrt(format_pbrt_v3(f), f, false);
+  const ExportScene want = busy_scene();
+  for (bool v4 : {true, false}) {
+    SCOPED_TRACE(v4 ? "pbrt-v4" : "pbrt-v3");
+    const std::string text = v4 ? format_pbrt_v4(f, want) : format_pbrt_v3(f, want);
+    const PbrtScene got = check_pbrt(text, f, v4);
+    expect_same_scene(as_export_scene(got, v4), want, true);
+    EXPECT_TRUE(got.mirrored);
+    EXPECT_EQ(got.card_albedo, want.card->albedo);
+    ASSERT_EQ(got.card_corners.size(), 4u);
+    for (const glm::vec3& c : got.card_corners) {
+      EXPECT_EQ(c.z, want.card->centre.z);
+      EXPECT_EQ(std::fabs(c.x - want.card->centre.x), want.card->half_side);
+      EXPECT_EQ(std::fabs(c.y - want.card->centre.y), want.card->half_side);
+    }
+    // Counter-clockwise seen from +Z: the card faces the feather.
+    const glm::vec3 n = glm::cross(got.card_corners[1] - got.card_corners[0], got.card_corners[2] - got.card_corners[0]);
+    EXPECT_GT(n.z, 0);
+    EXPECT_NE(text.find("\"busy.exr\""), std::string::npos);
+  }
+}
+
+TEST(Exporters, PbrtFovIsThatOfTheShorterSide) {
+  ExportScene s;
+  s.camera.fov_deg = 30;
+  s.width = 640;
+  s.height = 480;
+  EXPECT_EQ(pbrt_fov_deg(s), 30.0f);  // landscape: the vertical side is the shorter one
+  s.width = 300;
+  s.height = 600;  // portrait: pbrt's fov is horizontal, tan(fov_x / 2) = tan(15°) / 2
+  EXPECT_NEAR(std::tan(pbrt_fov_deg(s) * std::numbers::pi / 360), std::tan(std::numbers::pi / 12) / 2, 1e-6);
+}
+
+TEST(Exporters, SubstructureIsExportedAsHairWithAComment) {
+  const Feather f = samples::sample_feather(3, 5);
+  ExportScene s = busy_scene();
+  for (const char* mode : {"substructure", "explicit"}) {
+    s.shading = mode;
+    for (const std::string& text : {format_pbrt_v4(f, s), format_pbrt_v3(f, s),
+                                    format_mitsuba_scene(f, s, "c.txt")}) {
+      EXPECT_NE(text.find(std::string(mode) + " mode (rami and barbules inside each barb) has no counterpart"),
+                std::string::npos);
+      EXPECT_NE(text.find("hair fibres of the same width"), std::string::npos);
+    }
+  }
+  s.shading = "hair";
+  EXPECT_EQ(format_pbrt_v3(f, s).find("no counterpart"), std::string::npos);
 }
 
 TEST(Exporters, MitsubaHasFourNumbersPerLineAndBlankLinesBetweenCurves) {
-  const Feather f = samples::sample_feather(9, 6);
+  Feather f = samples::sample_feather(9, 6);
+  f.left.ribbon_width = 0.3f;  // left barbs at W / 2, right barbs at their own radius
   const std::string text = format_mitsuba_curves(f);
   EXPECT_EQ(text.find('#'), std::string::npos) << "Mitsuba's loader takes no comments";
   check_mitsuba(text, f);
+}
+
+TEST(Exporters, MitsubaSceneCarriesTheSceneAndNamesTheCurves) {
+  const Feather f = samples::sample_feather(9, 6);
+  const ExportScene want = busy_scene();
+  std::string curves;
+  const ExportScene got = check_mitsuba_scene(format_mitsuba_scene(f, want, "a&b \"c\".txt"), &curves);
+  expect_same_scene(got, want, false);
+  ASSERT_TRUE(got.card);
+  EXPECT_EQ(got.card->centre, want.card->centre);
+  EXPECT_EQ(got.card->half_side, want.card->half_side);
+  EXPECT_EQ(got.card->albedo, want.card->albedo);
+  EXPECT_EQ(curves, "a&amp;b &quot;c&quot;.txt");  // escaped in the attribute
+}
+
+TEST(Exporters, BlenderScriptCarriesTheCurvesWithRadiusAndTheScene) {
+  Feather f = samples::sample_feather(9, 6);
+  f.right.ribbon_width = 0.25f;
+  f.provenance.source = "photo:a \"quoted\" \\ name.jpg";
+  const std::string text = format_blender(f, busy_scene());
+  check_blender(text, f, busy_scene());
+  EXPECT_NE(text.find("NAME = \"photo:a \\\"quoted\\\" \\\\ name.jpg\"\n"), std::string::npos);
+  EXPECT_NE(text.find("ShaderNodeBsdfHairPrincipled"), std::string::npos);
+  EXPECT_NE(text.find("bpy.ops.object.convert(target=\"CURVES\")"), std::string::npos);
 }
 
 TEST(Exporters, ObjCurvesReferenceValidVerticesAndKnots) {
@@ -335,26 +790,29 @@ TEST(Exporters, ObjCurvesReferenceValidVerticesAndKnots) {
 
 TEST(Exporters, RandomFeathersExportToEveryFormat) {
   std::mt19937_64 rng(99);
+  const ExportScene scene = busy_scene();
   for (int i = 0; i < 200; ++i) {
     SCOPED_TRACE("feather " + std::to_string(i));
     const Feather f = samples::random_feather(rng);
-    check_pbrt(format_pbrt_v4(f), f, true);
-    check_pbrt(format_pbrt_v3(f), f, false);
+    check_pbrt(format_pbrt_v4(f, scene), f, true);
+    check_pbrt(format_pbrt_v3(f, scene), f, false);
     check_mitsuba(format_mitsuba_curves(f), f);
+    check_mitsuba_scene(format_mitsuba_scene(f, scene, "f.txt"));
     check_obj(format_obj(f), f);
+    check_blender(format_blender(f, scene), f, scene);
   }
 }
 
 TEST(Exporters, FormatNames) {
   for (ExportFormat e : {ExportFormat::Fcurves, ExportFormat::Pbrt, ExportFormat::PbrtV3,
-                         ExportFormat::Mitsuba, ExportFormat::Obj})
+                         ExportFormat::Mitsuba, ExportFormat::Obj, ExportFormat::Blender})
     EXPECT_EQ(parse_export_format(to_string(e)), e);
   EXPECT_EQ(parse_export_format("pbrt-v3"), ExportFormat::PbrtV3);
   try {
     parse_export_format("usd");
     ADD_FAILURE();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("fcurves, pbrt, pbrt-v3, mitsuba, obj"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("fcurves, pbrt, pbrt-v3, mitsuba, obj, blender"), std::string::npos)
         << e.what();
   }
 }
@@ -366,20 +824,23 @@ TEST(Exporters, InvalidFeatherWritesNothing) {
   Feather bad = samples::sample_feather(2, 4);
   bad.curves[1].points[2].p.y = std::numeric_limits<float>::infinity();
   for (ExportFormat e : {ExportFormat::Fcurves, ExportFormat::Pbrt, ExportFormat::PbrtV3,
-                         ExportFormat::Mitsuba, ExportFormat::Obj}) {
+                         ExportFormat::Mitsuba, ExportFormat::Obj, ExportFormat::Blender}) {
     SCOPED_TRACE(to_string(e));
     const fs::path out = dir / (std::string("out") + default_extension(e));
     const std::string before = fs::exists(out) ? read_file(out) : "(none)";
-    EXPECT_THROW(export_feather(out, bad, e), Error);
+    EXPECT_THROW(export_feather(out, bad, e, ExportScene{}), Error);
     EXPECT_EQ(fs::exists(out) ? read_file(out) : "(none)", before);
     // A good export replaces the file whole, and the fcurves export reads back.
     const Feather good = samples::sample_feather(2, 4);
-    export_feather(out, good, e);
-    EXPECT_EQ(read_file(out), export_text(good, e));
+    export_feather(out, good, e, busy_scene());
+    EXPECT_EQ(read_file(out), export_text(good, e, busy_scene()));
+    if (e == ExportFormat::Mitsuba) {
+      EXPECT_EQ(read_file(mitsuba_scene_path(out)), format_mitsuba_scene(good, busy_scene(), "out.txt"));
+    }
   }
   EXPECT_EQ(read_fcurves(dir / "out.fcurves"), samples::sample_feather(2, 4));
   std::size_t files = 0;
   for ([[maybe_unused]] auto& entry : fs::directory_iterator(dir)) ++files;
-  EXPECT_EQ(files, 4u);  // out.fcurves, out.pbrt (both pbrt flavours), out.txt, out.obj; no temporaries
+  EXPECT_EQ(files, 6u);  // out.fcurves, out.pbrt (both pbrt flavours), out.txt + out.xml, out.obj, out.py; no temporaries
   fs::remove_all(dir);
 }

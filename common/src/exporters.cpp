@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <numbers>
 #include <type_traits>
@@ -33,7 +34,8 @@ constexpr FormatName kFormats[] = {{ExportFormat::Fcurves, "fcurves", ".fcurves"
                                    {ExportFormat::Pbrt, "pbrt", ".pbrt"},
                                    {ExportFormat::PbrtV3, "pbrt-v3", ".pbrt"},
                                    {ExportFormat::Mitsuba, "mitsuba", ".txt"},
-                                   {ExportFormat::Obj, "obj", ".obj"}};
+                                   {ExportFormat::Obj, "obj", ".obj"},
+                                   {ExportFormat::Blender, "blender", ".py"}};
 
 // Value of a uniform cubic B-spline at joint k (0 <= k <= n-3; joint 0 is the
 // start, joint n-3 the end), where the segment basis is (1, 4, 1) / 6. In double,
@@ -81,104 +83,206 @@ void append_provenance_comment(std::string& out, const Feather& f, const char* c
   }
 }
 
-// Camera placement looking at the dorsal side (+Z) so the whole feather fills the frame.
-struct Framing {
-  glm::vec3 eye, target;
-  float fov_deg;
-};
-
-Framing frame_feather(const Feather& f) {
-  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-  for (const Curve& c : f.curves)
-    for (const ControlPoint& p : c.points) {
-      const glm::dvec3 q(p.p), r(p.radius);
-      lo = glm::min(lo, q - r);
-      hi = glm::max(hi, q + r);
-    }
-  if (!(lo.x <= hi.x)) lo = glm::dvec3(-1), hi = glm::dvec3(1);  // nothing to frame
-  const glm::dvec3 centre = 0.5 * (lo + hi);
-  const double half = std::max({0.5 * (hi.x - lo.x), 0.5 * (hi.y - lo.y), 1e-3});
-  const double fov = 30.0;
-  const double distance = 1.1 * half / std::tan(0.5 * fov * std::numbers::pi / 180.0) + 0.5 * (hi.z - lo.z);
-  return {finite_vec3(centre + glm::dvec3(0, 0, distance)), finite_vec3(centre), float(fov)};
-}
-
 enum class PbrtVersion { V3, V4 };
 
-void append_pbrt_curve(std::string& out, const Curve& c, PbrtVersion v) {
+void append_pbrt_floats(std::string& out, const char* type_name, std::initializer_list<float> values) {
+  out += " \"";
+  out += type_name;
+  out += "\" [";
+  for (float v : values) {
+    out += ' ';
+    append_float(out, finite_float(v));
+  }
+  out += " ]";
+}
+
+void append_pbrt_rgb(std::string& out, const char* name, const glm::vec3& c) {
+  append_pbrt_floats(out, name, {c.x, c.y, c.z});
+}
+
+// Barbs as pbrt's "flat" curves: ribbons that always face the ray, as hair mode
+// draws them; the shaft as a "cylinder", as plumage's round shaft.
+void append_pbrt_curve(std::string& out, const Feather& f, const Curve& c, PbrtVersion v) {
   const auto& cp = c.points;
-  const std::size_t n = cp.size();
-  const std::size_t segments = n - 3;
-  const bool ribbon = c.kind == CurveKind::Barb;
+  const std::size_t segments = cp.size() - 3;
   out += "Shape \"curve\" \"string basis\" [ \"bspline\" ] \"string type\" [ \"";
-  out += ribbon ? "ribbon" : "cylinder";
+  out += c.kind == CurveKind::Barb ? "flat" : "cylinder";
   out += v == PbrtVersion::V4 ? "\" ]\n  \"point3 P\" [" : "\" ]\n  \"point P\" [";
   for (const ControlPoint& p : cp) {
     out += ' ';
     append_vec3(out, p.p);
   }
-  // pbrt interpolates width linearly from the curve's start to its end; our
-  // radius is a B-spline per control point, so its end values are used.
-  out += " ]\n  \"float width0\" [ ";
-  append_float(out, finite_float(2 * at_joint(cp, 0, &ControlPoint::radius)));
-  out += " ] \"float width1\" [ ";
-  append_float(out, finite_float(2 * at_joint(cp, segments, &ControlPoint::radius)));
-  out += " ]";
-  if (ribbon) {
-    // Ribbons need the normal at each segment joint: segments + 1 of them.
-    out += "\n  \"normal N\" [";
-    for (std::size_t k = 0; k <= segments; ++k) {
-      // Never zero: the middle weight 4/6 outweighs the other two (1/6 each) for unit normals.
-      const glm::dvec3 nn = at_joint(cp, k, &ControlPoint::n);
-      const glm::vec3 unit(nn / glm::length(nn));
-      out += ' ';
-      append_vec3(out, unit);
-    }
-    out += " ]";
-  }
+  // pbrt interpolates width linearly from the curve's start to its end; plumage's
+  // radius is a B-spline per control point, so its end values are used (exact for
+  // a barb drawn at its vane's constant ribbon width).
+  std::vector<ControlPoint> drawn(cp);
+  for (ControlPoint& p : drawn) p.radius = render_radius(f, c, p);
+  out += " ]\n ";
+  append_pbrt_floats(out, "float width0", {finite_float(2 * at_joint(drawn, 0, &ControlPoint::radius))});
+  append_pbrt_floats(out, "float width1", {finite_float(2 * at_joint(drawn, segments, &ControlPoint::radius))});
   out += '\n';
 }
 
-std::string format_pbrt(const Feather& f, const ExportOptions& o, PbrtVersion v) {
+// The comment lines that say which plumage render this scene stands for.
+void append_scene_comment(std::string& out, const ExportScene& s, const char* comment) {
+  out += comment;
+  out += " What `plumage render` renders in ";
+  out += one_line(s.shading);
+  out += " mode: its camera, lights, card, hair material and depth.\n";
+  if (s.shading != "hair") {
+    out += comment;
+    out += " plumage's ";
+    out += one_line(s.shading);
+    out += " mode (rami and barbules inside each barb) has no counterpart here: the\n";
+    out += comment;
+    out += " barbs are hair fibres of the same width, as plumage's hair mode draws them.\n";
+  }
+  if (!s.material_note.empty()) {
+    out += comment;
+    out += ' ';
+    out += one_line(s.material_note);
+    out += '\n';
+  }
+}
+
+std::string format_pbrt(const Feather& f, const ExportScene& s, PbrtVersion v) {
   validate_feather(f);
   const bool v4 = v == PbrtVersion::V4;
   std::string out;
-  out.reserve(1024 + f.num_control_points() * 48);
+  out.reserve(4096 + f.num_control_points() * 48);
   out += v4 ? "# pbrt-v4 scene" : "# pbrt-v3 scene";
   out += " written by `plumage export`. Curves are uniform cubic B-splines in mm.\n";
   append_provenance_comment(out, f, "#");
-  if (!f.albedo.texture.empty())
-    out += "# The albedo texture \"" + one_line(f.albedo.texture) +
-           "\" is not exported: the hair material uses the constant albedo colour.\n";
-  const Framing fr = frame_feather(f);
+  append_scene_comment(out, s, "#");
   out += "# Mirror x so the image shows the dorsal side as seen from +Z (pbrt's LookAt is left-handed).\n";
   out += "Scale -1 1 1\nLookAt ";
-  append_vec3(out, fr.eye);
+  append_vec3(out, finite_vec3(s.camera.eye));
   out += "  ";
-  append_vec3(out, fr.target);
-  out += "  0 1 0\nCamera \"perspective\" \"float fov\" [ ";
-  append_float(out, fr.fov_deg);
+  append_vec3(out, finite_vec3(s.camera.look_at));
+  out += "  ";
+  append_vec3(out, finite_vec3(s.camera.up));
+  out += "\n# pbrt's fov spans the image's shorter side; plumage's vertical fov is ";
+  append_float(out, s.camera.fov_deg);
+  out += ".\nCamera \"perspective\"";
+  append_pbrt_floats(out, "float fov", {pbrt_fov_deg(s)});
+  out += '\n';
+  out += v4 ? "Sampler \"zsobol\"" : "Sampler \"halton\"";
+  out += " \"integer pixelsamples\" [ ";
+  append_int(out, s.spp);
   out += " ]\n";
-  out += v4 ? "Sampler \"zsobol\" \"integer pixelsamples\" [ 64 ]\n"
-              "Integrator \"volpath\" \"integer maxdepth\" [ 32 ]\n"
-              "Film \"rgb\" \"string filename\" [ \""
-            : "Sampler \"halton\" \"integer pixelsamples\" [ 64 ]\n"
-              "Integrator \"path\" \"integer maxdepth\" [ 32 ]\n"
-              "Film \"image\" \"string filename\" [ \"";
-  out += one_line(o.image_filename);
+  out += "# maxdepth counts scattering events as plumage's --max-depth does (1 = direct light only).\n";
+  out += v4 ? "Integrator \"volpath\"" : "Integrator \"path\"";
+  out += " \"integer maxdepth\" [ ";
+  append_int(out, s.max_depth);
+  out += " ]\n";
+  out += "PixelFilter \"box\"\n";  // plumage averages samples spread uniformly over the pixel
+  out += v4 ? "Film \"rgb\" \"string filename\" [ \"" : "Film \"image\" \"string filename\" [ \"";
+  out += one_line(s.image_filename);
   out += "\" ]\n  \"integer xresolution\" [ ";
-  append_int(out, o.image_width);
+  append_int(out, s.width);
   out += " ] \"integer yresolution\" [ ";
-  append_int(out, o.image_height);
-  out += " ]\n\nWorldBegin\nLightSource \"infinite\" \"rgb L\" [ 1 1 1 ]\n\nAttributeBegin\n";
-  // Hair BCSDF (Chiang et al. 2016) with absorption derived from the albedo.
-  out += v4 ? "Material \"hair\" \"rgb reflectance\" [ " : "Material \"hair\" \"rgb color\" [ ";
-  append_vec3(out, f.albedo.color);
-  out += " ]\n";
-  for (const Curve& c : f.curves) append_pbrt_curve(out, c, v);
+  append_int(out, s.height);
+  out += " ]\n\nWorldBegin\n";
+  if (!s.lights.empty())
+    out += "# The dome's LEDs: spheres of uniform radiance, as plumage's sphere lights.\n";
+  for (const ExportSphereLight& l : s.lights) {
+    out += "AttributeBegin\n  AreaLightSource \"diffuse\"";
+    append_pbrt_rgb(out, "rgb L", l.radiance);
+    out += "\n  Translate ";
+    append_vec3(out, finite_vec3(l.centre));
+    out += "\n  Shape \"sphere\"";
+    append_pbrt_floats(out, "float radius", {l.radius});
+    out += "\nAttributeEnd\n";
+  }
+  if (s.environment) {
+    out += "LightSource \"infinite\"";
+    append_pbrt_rgb(out, "rgb L", *s.environment);
+    out += '\n';
+  }
+  if (s.card) {
+    const ExportCard& c = *s.card;
+    out += "# The backdrop card: a diffuse square under the feather.\nAttributeBegin\n  ";
+    out += v4 ? "Material \"diffuse\"" : "Material \"matte\"";
+    append_pbrt_rgb(out, v4 ? "rgb reflectance" : "rgb Kd", c.albedo);
+    out += "\n  Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n ";
+    const float h = c.half_side;
+    const glm::dvec3 o(c.centre);
+    std::initializer_list<float> corners = {
+        finite_float(o.x - h), finite_float(o.y - h), finite_float(o.z), finite_float(o.x + h), finite_float(o.y - h),
+        finite_float(o.z),     finite_float(o.x + h), finite_float(o.y + h), finite_float(o.z), finite_float(o.x - h),
+        finite_float(o.y + h), finite_float(o.z)};
+    append_pbrt_floats(out, v4 ? "point3 P" : "point P", corners);
+    out += "\nAttributeEnd\n";
+  }
+  out += "\nAttributeBegin\n";
+  // Chiang et al. 2016 hair BSDF with plumage's absorption (per unit radius in both).
+  out += "# pbrt's alpha has the opposite sign to plumage's (plumage alpha = ";
+  append_float(out, s.material.alpha_deg);
+  out += " is pbrt alpha = ";
+  append_float(out, -s.material.alpha_deg);
+  out += ").\nMaterial \"hair\"";
+  append_pbrt_rgb(out, "rgb sigma_a", s.material.sigma_a);
+  append_pbrt_floats(out, "float beta_m", {s.material.beta_m});
+  append_pbrt_floats(out, "float beta_n", {s.material.beta_n});
+  append_pbrt_floats(out, "float alpha", {-s.material.alpha_deg});
+  append_pbrt_floats(out, "float eta", {s.material.eta});
+  out += '\n';
+  for (const Curve& c : f.curves) append_pbrt_curve(out, f, c, v);
   out += "AttributeEnd\n";
   if (!v4) out += "WorldEnd\n";
   return out;
+}
+
+// --------------------------------------------------------------- Mitsuba ---
+
+std::string xml_escaped(const std::string& s) {
+  std::string r;
+  for (char c : one_line(s)) {
+    switch (c) {
+      case '&': r += "&amp;"; break;
+      case '<': r += "&lt;"; break;
+      case '>': r += "&gt;"; break;
+      case '"': r += "&quot;"; break;
+      default: r += c;
+    }
+  }
+  return r;
+}
+
+// "x, y, z" for a Mitsuba value attribute.
+std::string mitsuba_triple(const glm::vec3& v) {
+  std::string r;
+  append_float(r, finite_float(v.x));
+  r += ", ";
+  append_float(r, finite_float(v.y));
+  r += ", ";
+  append_float(r, finite_float(v.z));
+  return r;
+}
+
+void append_xml_float(std::string& out, const char* indent, const char* name, float v) {
+  out += indent;
+  out += "<float name=\"";
+  out += name;
+  out += "\" value=\"";
+  append_float(out, finite_float(v));
+  out += "\"/>\n";
+}
+
+void append_xml_int(std::string& out, const char* indent, const char* name, int v) {
+  out += indent;
+  out += "<integer name=\"";
+  out += name;
+  out += "\" value=\"";
+  append_int(out, v);
+  out += "\"/>\n";
+}
+
+// XML comments may not hold "--".
+std::string xml_comment_text(const std::string& s) {
+  std::string r = one_line(s);
+  for (std::size_t i; (i = r.find("--")) != std::string::npos;) r.replace(i, 2, "- ");
+  return r;
 }
 
 }  // namespace
@@ -205,12 +309,15 @@ ExportFormat parse_export_format(std::string_view name) {
   throw Error("unknown export format '" + std::string(name) + "': use one of " + known);
 }
 
-std::string format_pbrt_v4(const Feather& f, const ExportOptions& o) {
-  return format_pbrt(f, o, PbrtVersion::V4);
+float pbrt_fov_deg(const ExportScene& s) {
+  if (s.width >= s.height) return s.camera.fov_deg;
+  const double tan_half_y = std::tan(0.5 * double(s.camera.fov_deg) * std::numbers::pi / 180.0);
+  const double tan_half_x = tan_half_y * double(s.width) / double(s.height);
+  return float(2.0 * std::atan(tan_half_x) * 180.0 / std::numbers::pi);
 }
-std::string format_pbrt_v3(const Feather& f, const ExportOptions& o) {
-  return format_pbrt(f, o, PbrtVersion::V3);
-}
+
+std::string format_pbrt_v4(const Feather& f, const ExportScene& s) { return format_pbrt(f, s, PbrtVersion::V4); }
+std::string format_pbrt_v3(const Feather& f, const ExportScene& s) { return format_pbrt(f, s, PbrtVersion::V3); }
 
 std::string format_mitsuba_curves(const Feather& f) {
   validate_feather(f);
@@ -224,10 +331,72 @@ std::string format_mitsuba_curves(const Feather& f) {
     for (const ControlPoint& p : c.points) {
       append_vec3(out, p.p);
       out += ' ';
-      append_float(out, p.radius);
+      append_float(out, render_radius(f, c, p));
       out += '\n';
     }
   }
+  return out;
+}
+
+std::string format_mitsuba_scene(const Feather& f, const ExportScene& s, const std::string& curves_filename) {
+  validate_feather(f);
+  std::string head;
+  append_provenance_comment(head, f, "   ");
+  append_scene_comment(head, s, "   ");
+  head += "    Mitsuba's bsplinecurve is a round tube: the barbs keep plumage's width, but plumage's\n"
+          "    hair mode draws them as flat ribbons facing the ray (docs/exporters.md).\n";
+  std::string out = "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<!-- Mitsuba 3 scene written by `plumage export`. Units mm.\n";
+  for (std::size_t i = 0; i < head.size();) {
+    const std::size_t e = head.find('\n', i);
+    out += xml_comment_text(head.substr(i, e - i));
+    out += '\n';
+    i = e + 1;
+  }
+  out += "-->\n<scene version=\"3.0.0\">\n";
+  out += "    <!-- max_depth counts the camera segment: plumage's max depth + 1 (2 = direct light only). -->\n";
+  out += "    <integrator type=\"path\">\n";
+  append_xml_int(out, "        ", "max_depth", s.max_depth + 1);
+  out += "    </integrator>\n    <sensor type=\"perspective\">\n";
+  append_xml_float(out, "        ", "fov", s.camera.fov_deg);
+  out += "        <string name=\"fov_axis\" value=\"y\"/>\n        <transform name=\"to_world\">\n";
+  out += "            <lookat origin=\"" + mitsuba_triple(s.camera.eye) + "\" target=\"" +
+         mitsuba_triple(s.camera.look_at) + "\" up=\"" + mitsuba_triple(s.camera.up) + "\"/>\n";
+  out += "        </transform>\n        <sampler type=\"independent\">\n";
+  append_xml_int(out, "            ", "sample_count", s.spp);
+  out += "        </sampler>\n        <film type=\"hdrfilm\">\n";
+  append_xml_int(out, "            ", "width", s.width);
+  append_xml_int(out, "            ", "height", s.height);
+  out += "            <rfilter type=\"box\"/>\n        </film>\n    </sensor>\n";
+  for (const ExportSphereLight& l : s.lights) {
+    out += "    <shape type=\"sphere\">\n        <point name=\"center\" value=\"" + mitsuba_triple(l.centre) + "\"/>\n";
+    append_xml_float(out, "        ", "radius", l.radius);
+    out += "        <emitter type=\"area\"><rgb name=\"radiance\" value=\"" + mitsuba_triple(l.radiance) +
+           "\"/></emitter>\n    </shape>\n";
+  }
+  if (s.environment)
+    out += "    <emitter type=\"constant\"><rgb name=\"radiance\" value=\"" + mitsuba_triple(*s.environment) +
+           "\"/></emitter>\n";
+  if (s.card) {
+    // Mitsuba's rectangle spans [-1,1]^2 in z = 0, facing +Z.
+    const ExportCard& c = *s.card;
+    out += "    <shape type=\"rectangle\">\n        <transform name=\"to_world\">\n";
+    out += "            <scale value=\"" + mitsuba_triple({c.half_side, c.half_side, 1.0f}) + "\"/>\n";
+    out += "            <translate value=\"" + mitsuba_triple(c.centre) + "\"/>\n        </transform>\n";
+    out += "        <bsdf type=\"diffuse\"><rgb name=\"reflectance\" value=\"" + mitsuba_triple(c.albedo) +
+           "\"/></bsdf>\n    </shape>\n";
+  }
+  out += "    <shape type=\"bsplinecurve\">\n        <string name=\"filename\" value=\"" + xml_escaped(curves_filename) +
+         "\"/>\n";
+  out += "        <!-- Chiang et al. 2016 with plumage's sigma_a (per unit radius); scale_tilt is pbrt's alpha\n"
+         "             (Mitsuba's hair BSDF follows pbrt-v3): minus plumage's alpha. -->\n";
+  out += "        <bsdf type=\"hair\">\n";
+  out += "            <rgb name=\"sigma_a\" value=\"" + mitsuba_triple(s.material.sigma_a) + "\"/>\n";
+  append_xml_float(out, "            ", "longitudinal_roughness", s.material.beta_m);
+  append_xml_float(out, "            ", "azimuthal_roughness", s.material.beta_n);
+  append_xml_float(out, "            ", "scale_tilt", -s.material.alpha_deg);
+  append_xml_float(out, "            ", "int_ior", s.material.eta);
+  append_xml_float(out, "            ", "ext_ior", 1.0f);
+  out += "        </bsdf>\n    </shape>\n</scene>\n";
   return out;
 }
 
@@ -275,26 +444,253 @@ std::string format_obj(const Feather& f) {
   return out;
 }
 
-std::string export_text(const Feather& f, ExportFormat format, const ExportOptions& o) {
+// ---------------------------------------------------------------- Blender ---
+
+// "(x, y, z)" as a Python tuple.
+std::string py_tuple(std::initializer_list<float> v) {
+  std::string r = "(";
+  bool first = true;
+  for (float x : v) {
+    if (!first) r += ", ";
+    first = false;
+    append_float(r, finite_float(x));
+  }
+  return r + ")";
+}
+
+std::string py_number(float v) {
+  std::string r;
+  append_float(r, finite_float(v));
+  return r;
+}
+
+// A Python string literal (repr-safe: printable, quotes and backslashes escaped).
+std::string py_string(const std::string& s) {
+  std::string r = "\"";
+  for (char c : one_line(s)) {
+    if (c == '"' || c == '\\') r += '\\';
+    r += c;
+  }
+  return r + "\"";
+}
+
+std::string format_blender(const Feather& f, const ExportScene& s) {
+  validate_feather(f);
+  std::string out;
+  out.reserve(8192 + f.num_control_points() * 48);
+  out += "# Blender 3.4+ script written by `plumage export`: run `blender -b -P THIS.py -o //render_ -F OPEN_EXR -f 1`\n"
+         "# to render, or `blender -P THIS.py` to open the scene. Units: 1 Blender unit = 1 mm.\n";
+  append_provenance_comment(out, f, "#");
+  append_scene_comment(out, s, "#");
+  out += "# Curves: uniform cubic B-splines (NURBS order 4, uniform knots) with the radius plumage draws\n"
+         "# them with, converted to a Curves object so that Cycles renders them as hair (ray-facing\n"
+         "# ribbons, as plumage's hair mode draws barbs). docs/exporters.md says what is approximated.\n"
+         "import math\n\nimport bpy\nfrom mathutils import Vector\n\n";
+  out += "# One tuple of (x, y, z, radius) control points per curve; the shaft first.\nCURVES = [\n";
+  for (const Curve& c : f.curves) {
+    out += "    (";
+    for (const ControlPoint& p : c.points) {
+      out += py_tuple({p.p.x, p.p.y, p.p.z, render_radius(f, c, p)});
+      out += ", ";
+    }
+    out += "),\n";
+  }
+  out += "]\n";
+  out += "SIGMA_A = " + py_tuple({s.material.sigma_a.x, s.material.sigma_a.y, s.material.sigma_a.z}) +
+         "  # per unit fibre radius, as Cycles' absorption coefficient\n";
+  out += "BETA_M, BETA_N, ETA = " + py_number(s.material.beta_m) + ", " + py_number(s.material.beta_n) + ", " +
+         py_number(s.material.eta);
+  out += "\n# Cycles' Offset follows pbrt's alpha (minus plumage's), in radians.\nALPHA_DEG = ";
+  append_float(out, -s.material.alpha_deg);
+  out += "\nCAMERA_EYE, CAMERA_TARGET, CAMERA_UP = " +
+         py_tuple({s.camera.eye.x, s.camera.eye.y, s.camera.eye.z}) + ", " +
+         py_tuple({s.camera.look_at.x, s.camera.look_at.y, s.camera.look_at.z}) + ", " +
+         py_tuple({s.camera.up.x, s.camera.up.y, s.camera.up.z}) + "\nFOV_Y_DEG = ";
+  append_float(out, s.camera.fov_deg);
+  out += "\nWIDTH, HEIGHT, SPP, MAX_DEPTH = ";
+  append_int(out, s.width);
+  out += ", ";
+  append_int(out, s.height);
+  out += ", ";
+  append_int(out, s.spp);
+  out += ", ";
+  append_int(out, s.max_depth);
+  out += "\n# Dome LEDs: (centre, radius, radiance). A Cycles point light of radius r and power P\n"
+         "# is a sphere of radiance P / (4 pi * pi r^2).\nLEDS = [\n";
+  for (const ExportSphereLight& l : s.lights)
+    out += "    (" + py_tuple({l.centre.x, l.centre.y, l.centre.z}) + ", " + py_number(l.radius) + ", " +
+           py_tuple({l.radiance.x, l.radiance.y, l.radiance.z}) + "),\n";
+  out += "]\nENVIRONMENT = ";
+  out += s.environment ? py_tuple({s.environment->x, s.environment->y, s.environment->z}) : std::string("None");
+  out += "\nCARD = ";  // (centre, half side, albedo) or None
+  out += s.card ? "(" + py_tuple({s.card->centre.x, s.card->centre.y, s.card->centre.z}) + ", " +
+                      py_number(s.card->half_side) + ", " +
+                      py_tuple({s.card->albedo.x, s.card->albedo.y, s.card->albedo.z}) + ")"
+                : std::string("None");
+  out += "\nNAME = " + py_string(f.provenance.source.empty() ? "plumage feather" : f.provenance.source) + "\n";
+  out += R"PY(
+
+def clear_scene():
+    for ob in list(bpy.data.objects):
+        bpy.data.objects.remove(ob)
+
+
+def build_curves():
+    cu = bpy.data.curves.new("feather", "CURVE")
+    cu.dimensions = "3D"
+    for points in CURVES:
+        sp = cu.splines.new("NURBS")
+        sp.points.add(len(points) - 1)
+        for p, (x, y, z, r) in zip(sp.points, points):
+            p.co = (x, y, z, 1.0)
+            p.radius = r
+        sp.order_u = 4
+        sp.use_endpoint_u = False
+    ob = bpy.data.objects.new("feather", cu)
+    bpy.context.scene.collection.objects.link(ob)
+    bpy.context.view_layer.objects.active = ob
+    ob.select_set(True)
+    bpy.ops.object.convert(target="CURVES")
+    ob = bpy.context.view_layer.objects.active
+    mat = bpy.data.materials.new("plumage hair")
+    mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    for n in list(nodes):
+        nodes.remove(n)
+    hair = nodes.new("ShaderNodeBsdfHairPrincipled")
+    hair.parametrization = "ABSORPTION"
+    hair.inputs["Absorption Coefficient"].default_value = SIGMA_A
+    hair.inputs["Roughness"].default_value = BETA_M
+    hair.inputs["Radial Roughness"].default_value = BETA_N
+    hair.inputs["Coat"].default_value = 0.0
+    hair.inputs["IOR"].default_value = ETA
+    hair.inputs["Offset"].default_value = math.radians(ALPHA_DEG)
+    hair.inputs["Random Roughness"].default_value = 0.0
+    output = nodes.new("ShaderNodeOutputMaterial")
+    mat.node_tree.links.new(hair.outputs["BSDF"], output.inputs["Surface"])
+    ob.data.materials.append(mat)
+    return ob
+
+
+def build_lights():
+    for i, (centre, radius, radiance) in enumerate(LEDS):
+        light = bpy.data.lights.new("LED %d" % (i + 1), "POINT")
+        light.shadow_soft_size = radius
+        peak = max(radiance)
+        light.color = tuple(c / peak for c in radiance) if peak > 0 else (1.0, 1.0, 1.0)
+        light.energy = peak * 4.0 * math.pi * math.pi * radius * radius
+        ob = bpy.data.objects.new("LED %d" % (i + 1), light)
+        ob.location = centre
+        bpy.context.scene.collection.objects.link(ob)
+    world = bpy.data.worlds.new("plumage world")
+    world.use_nodes = True
+    background = world.node_tree.nodes["Background"]
+    background.inputs["Color"].default_value = (*(ENVIRONMENT or (0.0, 0.0, 0.0)), 1.0)
+    background.inputs["Strength"].default_value = 1.0
+    bpy.context.scene.world = world
+    if CARD is not None:
+        (cx, cy, cz), half, albedo = CARD
+        mesh = bpy.data.meshes.new("card")
+        mesh.from_pydata([(cx - half, cy - half, cz), (cx + half, cy - half, cz), (cx + half, cy + half, cz),
+                          (cx - half, cy + half, cz)], [], [(0, 1, 2, 3)])
+        mat = bpy.data.materials.new("card")
+        mat.use_nodes = True
+        nodes = mat.node_tree.nodes
+        for n in list(nodes):
+            nodes.remove(n)
+        diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+        diffuse.inputs["Color"].default_value = (*albedo, 1.0)
+        diffuse.inputs["Roughness"].default_value = 0.0
+        output = nodes.new("ShaderNodeOutputMaterial")
+        mat.node_tree.links.new(diffuse.outputs["BSDF"], output.inputs["Surface"])
+        mesh.materials.append(mat)
+        ob = bpy.data.objects.new("card", mesh)
+        bpy.context.scene.collection.objects.link(ob)
+
+
+def build_camera_and_settings():
+    cam = bpy.data.cameras.new("camera")
+    cam.sensor_fit = "VERTICAL"
+    cam.angle_y = math.radians(FOV_Y_DEG)
+    eye = Vector(CAMERA_EYE)
+    cam.clip_start = 0.01
+    cam.clip_end = 100.0 * max(1.0, (Vector(CAMERA_TARGET) - eye).length)
+    ob = bpy.data.objects.new("camera", cam)
+    ob.location = eye
+    # Look along -Z with +Y toward CAMERA_UP.
+    forward = (Vector(CAMERA_TARGET) - eye).normalized()
+    right = forward.cross(Vector(CAMERA_UP)).normalized()
+    up = right.cross(forward)
+    from mathutils import Matrix
+    ob.rotation_euler = Matrix((right, up, -forward)).transposed().to_euler()
+    bpy.context.scene.collection.objects.link(ob)
+    scene = bpy.context.scene
+    scene.camera = ob
+    scene.render.engine = "CYCLES"
+    scene.render.resolution_x = WIDTH
+    scene.render.resolution_y = HEIGHT
+    scene.render.resolution_percentage = 100
+    scene.cycles.samples = SPP
+    scene.cycles.use_denoising = False
+    scene.cycles.use_adaptive_sampling = False
+    scene.cycles.filter_width = 1.0  # a box over the pixel, as plumage
+    scene.cycles.pixel_filter_type = "BOX"
+    # Cycles counts bounces after the first hit: plumage's depth 1 (direct light) is 0 bounces.
+    bounces = max(0, MAX_DEPTH - 1)
+    for attr in ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces",
+                 "transparent_max_bounces"):
+        setattr(scene.cycles, attr, bounces)
+    scene.cycles.sample_clamp_direct = 0.0
+    scene.cycles.sample_clamp_indirect = 0.0
+    scene.cycles.blur_glossy = 0.0
+    scene.cycles_curves.shape = "RIBBONS"
+    scene.view_settings.view_transform = "Standard"
+
+
+clear_scene()
+build_curves()
+build_lights()
+build_camera_and_settings()
+print("plumage: built %d curves for %s" % (len(CURVES), NAME))
+)PY";
+  return out;
+}
+
+std::string export_text(const Feather& f, ExportFormat format, const ExportScene& s) {
   switch (format) {
     case ExportFormat::Fcurves:
       return format_fcurves(f);
     case ExportFormat::Pbrt:
-      return format_pbrt_v4(f, o);
+      return format_pbrt_v4(f, s);
     case ExportFormat::PbrtV3:
-      return format_pbrt_v3(f, o);
+      return format_pbrt_v3(f, s);
     case ExportFormat::Mitsuba:
       return format_mitsuba_curves(f);
     case ExportFormat::Obj:
       return format_obj(f);
+    case ExportFormat::Blender:
+      return format_blender(f, s);
   }
   throw Error("unknown export format");
 }
 
+std::filesystem::path mitsuba_scene_path(const std::filesystem::path& curves) {
+  std::filesystem::path scene = curves;
+  scene.replace_extension(curves.extension() == ".xml" ? ".scene.xml" : ".xml");
+  return scene;
+}
+
 void export_feather(const std::filesystem::path& path, const Feather& f, ExportFormat format,
-                    const ExportOptions& o) {
+                    const ExportScene& s) {
   // Build the whole text first: a failure leaves nothing on disk.
-  write_file_atomic(path, export_text(f, format, o));
+  const std::string text = export_text(f, format, s);
+  if (format != ExportFormat::Mitsuba) {
+    write_file_atomic(path, text);
+    return;
+  }
+  const std::string scene = format_mitsuba_scene(f, s, path.filename().string());
+  write_file_atomic(path, text);
+  write_file_atomic(mitsuba_scene_path(path), scene);
 }
 
 }  // namespace plumage

@@ -36,4 +36,10 @@ std::size_t Feather::num_control_points() const {
   return n;
 }
 
+float render_radius(const Feather& f, const Curve& c, const ControlPoint& cp) {
+  if (c.kind != CurveKind::Barb) return cp.radius;
+  const float w = f.substructure(c.side).ribbon_width;
+  return w > 0 ? 0.5f * w : cp.radius;
+}
+
 }  // namespace plumage

@@ -31,16 +31,18 @@ LightSet view_lights(const Bounds3f& fb, const DomeRig& rig, const ViewSpec& vie
   return lights;
 }
 
+FibreMaterial view_material(const Feather& feather, const ViewSpec& view) {
+  validate(view.hair, "--beta-m/--beta-n/--alpha/--eta");
+  if (!view.sigma_a) return FibreMaterial(view.hair, AlbedoMap(feather.albedo, view.base_dir));
+  HairParams hp = view.hair;
+  hp.sigma_a = *view.sigma_a;
+  return FibreMaterial(hp);
+}
+
 Image render_view(const Scene& scene, const DomeRig& rig, const ViewSpec& view) {
   const Bounds3f& fb = scene.feather_bounds();
   const LightSet lights = view_lights(fb, rig, view);
-  validate(view.hair, "--beta-m/--beta-n/--alpha/--eta");
-  const FibreMaterial material = [&] {
-    if (!view.sigma_a) return FibreMaterial(view.hair, AlbedoMap(scene.feather().albedo, view.base_dir));
-    HairParams hp = view.hair;
-    hp.sigma_a = *view.sigma_a;
-    return FibreMaterial(hp);
-  }();
+  const FibreMaterial material = view_material(scene.feather(), view);
   if (view.max_depth < 0) throw Error("--max-depth must be 0 or more");
   IntegratorSettings is;
   is.max_depth = view.max_depth;

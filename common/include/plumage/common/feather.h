@@ -81,4 +81,11 @@ struct Feather {
   bool operator==(const Feather&) const = default;
 };
 
+// The radius a control point is drawn with in hair and substructure modes (DESIGN
+// §4): a barb takes half its vane's ribbon width W, the same width in both modes
+// (the paper: "the same curve width parameter was used for the hair and
+// substructure versions"); the shaft, and a barb whose vane has no W, keep their
+// own radius. The renderer and the exporters draw with it.
+float render_radius(const Feather& feather, const Curve& curve, const ControlPoint& point);
+
 }  // namespace plumage

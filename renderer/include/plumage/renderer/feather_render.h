@@ -12,6 +12,7 @@
 #include "plumage/common/image.h"
 #include "plumage/renderer/camera.h"
 #include "plumage/renderer/dome_rig.h"
+#include "plumage/renderer/fibre_material.h"
 #include "plumage/renderer/hair_bcsdf.h"
 #include "plumage/renderer/light_set.h"
 #include "plumage/renderer/path_integrator.h"
@@ -51,6 +52,12 @@ struct ViewSpec {
 // feather's lowest point (as in the photographs), then the view's environment
 // and directional lights. Throws plumage::Error for a bad LED selection.
 LightSet view_lights(const Bounds3f& feather_bounds, const DomeRig& rig, const ViewSpec& view);
+
+// What the feather's fibres are made of in `view`: its hair parameters with the
+// absorption given there, or else from the feather's albedo (a texture resolved
+// against view.base_dir). Throws plumage::Error for unusable hair parameters or an
+// unreadable texture.
+FibreMaterial view_material(const Feather& feather, const ViewSpec& view);
 
 // Renders `scene` under `rig` as `view` says and returns the image scaled by
 // 2^exposure. Throws plumage::Error for bad settings (see render(), Camera).
