@@ -48,7 +48,7 @@ Scene::Scene(const Feather& feather, const SceneOptions& options)
   for (std::size_t i = 0; i < feather_.curves.size(); ++i) {
     const Curve& c = feather_.curves[i];
     for (const ControlPoint& cp : c.points) {
-      const float r = render_radius(c, cp);
+      const float r = plumage::render_radius(feather_, c, cp);
       curve_boxes[i].extend(cp.p - glm::vec3(r));
       curve_boxes[i].extend(cp.p + glm::vec3(r));
       max_radius_ = std::max(max_radius_, r);
@@ -93,22 +93,12 @@ Scene::Scene(const Feather& feather, const SceneOptions& options)
 
 Scene::~Scene() = default;
 
-// DESIGN §4: hair and substructure modes draw a barb with the same centreline and
-// width, the barb's full width W (ramus plus barbules) from its vane's parameters,
-// so the two shadings cover the same area and differ only in what the ribbon holds.
-// A vane without a ribbon width falls back to the curve's own radius.
-float Scene::render_radius(const Curve& c, const ControlPoint& cp) const {
-  if (c.kind != CurveKind::Barb) return cp.radius;
-  const float w = feather_.substructure(c.side).ribbon_width;
-  return w > 0 ? 0.5f * w : cp.radius;
-}
-
 void Scene::add_curves(CurveGeometry& g, CurveKind kind, int rtc_type) {
   for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci) {
     const Curve& c = feather_.curves[ci];
     if (c.kind != kind || !keep_[ci]) continue;
     const auto first = std::uint32_t(g.vertices.size());
-    for (const ControlPoint& cp : c.points) g.vertices.emplace_back(cp.p, render_radius(c, cp));
+    for (const ControlPoint& cp : c.points) g.vertices.emplace_back(cp.p, plumage::render_radius(feather_, c, cp));
     for (std::uint32_t s = 0; s + 3 < c.points.size(); ++s) {
       g.indices.push_back(first + s);
       g.prims.push_back({ci, first + s, ci});

@@ -131,7 +131,6 @@ class Scene {
   Bounds3f bounds_, scene_bounds_;
   float backdrop_z_ = 0;
   float max_barb_radius_ = 0;
-  float render_radius(const Curve& c, const ControlPoint& cp) const;
   float max_radius_ = 0;
   std::optional<BarbSubstructure> left_, right_;
   std::vector<RibbonSegment> ribbon_segments_;
