@@ -242,7 +242,8 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
           L += beta * direct_light(scene_, lights_, hit, *bsdf, i, 1.0f, {u.y, u.z}, counters);
         }
       } else {
-        if (settings_.light_pick == LightPick::Estimate) pick.estimate(lights_, hit.p, *bsdf);
+        // One light needs no weighing: it is chosen with probability 1 either way.
+        if (settings_.light_pick == LightPick::Estimate && n_lights > 1) pick.estimate(lights_, hit.p, *bsdf);
         // Stratified over the pmf: pick k takes u in [k/picks, (k+1)/picks).
         for (int k = 0; k < picks; ++k) {
           glm::vec2 us(ul.y, ul.z);
