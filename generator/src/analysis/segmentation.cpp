@@ -72,6 +72,34 @@ void close_barb_gaps(Component& comp) {
                    cv::FILLED, cv::LINE_8, cv::noArray(), 0, -comp.bbox.tl());
 }
 
+// Feathers that touch or overlap make one blob. A feather's vane is one
+// ribbon: the part of it at least kCore of its widest half-width away from the
+// background is one connected piece along the shaft. Two feathers side by side
+// or tip to quill give two such pieces of comparable size (a narrow neck where
+// they touch is below the level). Pieces under kMinPiece of the largest are
+// noise (a lobe of a split vane), not a second feather. Levels chosen on the
+// sheets in ../shared/photos (docs/analysis.md, "Sheets").
+constexpr double kCore = 0.6, kMinPiece = 0.15;
+// A single feather fills most of its convex hull (0.63-0.99 on those sheets); a
+// fan or a row of downy feathers on a string leaves the background between
+// them inside it.
+constexpr double kMinSolidity = 0.6;
+int count_cores(const cv::Mat& mask) {
+  cv::Mat padded, dt;
+  cv::copyMakeBorder(mask, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  cv::distanceTransform(padded, dt, cv::DIST_L2, 3);
+  double most = 0;
+  cv::minMaxLoc(dt, nullptr, &most);
+  if (most < 2) return 1;
+  cv::Mat core = dt >= kCore * most, labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(core, labels, stats, centroids, 8, CV_32S);
+  int largest = 0;
+  for (int i = 1; i < n; ++i) largest = std::max(largest, stats.at<int>(i, cv::CC_STAT_AREA));
+  int pieces = 0;
+  for (int i = 1; i < n; ++i) pieces += stats.at<int>(i, cv::CC_STAT_AREA) >= kMinPiece * largest;
+  return std::max(1, pieces);
+}
+
 }  // namespace
 
 Segmentation segment_feathers(const cv::Mat& bgr) {
@@ -141,13 +169,20 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
     largest = std::max(largest, area);
     kept.push_back(std::move(comp));
   }
-  // Letters and labels are far smaller than the feathers on the same sheet.
+  // Letters and labels are far smaller than the feathers on the same sheet; the
+  // smallest body feathers on a sheet of flight feathers are 4-8 % of the largest.
+  constexpr double kMinRelativeArea = 0.03;
   for (auto& comp : kept) {
-    if (comp.area < 0.12 * largest) continue;
+    if (comp.area < kMinRelativeArea * largest) continue;
     comp.mask = cv::Mat::zeros(comp.bbox.size(), CV_8U);
     cv::drawContours(comp.mask, std::vector<std::vector<cv::Point>>{comp.contour}, 0,
                      cv::Scalar(255), cv::FILLED, cv::LINE_8, cv::noArray(), 0, -comp.bbox.tl());
     close_barb_gaps(comp);
+    comp.cores = count_cores(comp.mask);
+    std::vector<cv::Point> hull;
+    cv::convexHull(comp.contour, hull);
+    comp.solidity = comp.area / std::max(1.0, cv::contourArea(hull));
+    comp.unseparated = comp.cores > 1 || comp.solidity < kMinSolidity;
     comp.touches_border = comp.bbox.x <= 1 || comp.bbox.y <= 1 ||
                           comp.bbox.br().x >= bgr.cols - 1 || comp.bbox.br().y >= bgr.rows - 1;
     seg.feathers.push_back(std::move(comp));
