@@ -119,6 +119,10 @@ double calamus_fraction(const FeatherLayout& f) {
 
 }  // namespace
 
+double barb_spacing_prior_mm(double length_mm) {
+  return std::clamp(0.25 + 0.002 * length_mm, 0.25, 0.75);
+}
+
 LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source) {
   const Checker check{source};
   check_layout(f, check);
@@ -150,8 +154,11 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
   p.barb.radius_tip = 0.4 * p.barb.radius_root;
 
   const double vane_length = L - p.shaft.calamus_length;
-  const double preset_spacing = preset.vane_length() / preset.barb_count(VaneSide::Left);
+  const double prior = barb_spacing_prior_mm(L);
+  // Photo millimetres per pixel: the length of a column of the similarity.
+  const double mm_per_px = glm::length(glm::dvec2(f.feather_from_image[0]));
   std::optional<double> spacing[2];
+  std::string refused[2];
   const VaneProfile* sides[2] = {&f.left, &f.right};
   const char* names[2] = {"left", "right"};
   // A side's spacing is the median of its trusted stations, but only when there are
@@ -164,7 +171,28 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
     std::vector<double> values;
     for (const auto& q : sp)
       if (q.y > 0) values.push_back(q.y);
-    if (values.size() >= kMinSpacingStations) spacing[s] = median(values);
+    if (values.size() < kMinSpacingStations) continue;
+    // The photo resolves barbs only when (docs/analysis.md, "Barb density") the
+    // period spans at least kMinPeriodPx pixels, the stations agree (median
+    // absolute deviation within kMaxSpread of the median), and the spacing is
+    // within a factor kPriorFactor of the prior: a "period" of texture, bars or
+    // harmonics at a scale that cannot resolve barbs fails one of the three.
+    constexpr double kMinPeriodPx = 2.5, kMaxSpread = 0.25, kPriorFactor = 4.0;
+    const double m = median(values);
+    std::vector<double> dev;
+    for (double v : values) dev.push_back(std::fabs(v - m));
+    const double spread = median(dev) / m;
+    std::ostringstream why;
+    if (std::isfinite(mm_per_px) && mm_per_px > 0 && m / mm_per_px < kMinPeriodPx)
+      why << "its period " << num(m / mm_per_px) << " px is under " << kMinPeriodPx << " px";
+    else if (spread > kMaxSpread)
+      why << "its stations disagree (spread " << std::lround(100 * spread) << " % of the median)";
+    else if (m < prior / kPriorFactor || m > prior * kPriorFactor)
+      why << num(m) << " mm is not within x" << kPriorFactor << " of the prior " << num(prior) << " mm";
+    if (why.str().empty())
+      spacing[s] = m;
+    else
+      refused[s] = why.str();
   }
   for (int s = 0; s < 2; ++s) {
     const VaneProfile& v = *sides[s];
@@ -202,15 +230,16 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
     vp.angle_deg = vane_profile(angle, calamus_t, 5.0, 90.0);
 
     double d = 0;
+    const std::string why = refused[s].empty() ? "not confident" : "not resolved (" + refused[s] + ")";
     if (spacing[s]) {
       d = *spacing[s];
     } else if (spacing[1 - s]) {
       d = *spacing[1 - s];
-      out.warnings.push_back(side + " barb spacing: not confident; used the " + names[1 - s] + " vane's");
+      out.warnings.push_back(side + " barb spacing: " + why + "; used the " + names[1 - s] + " vane's");
     } else {
-      d = preset_spacing;
-      out.warnings.push_back(side + " barb spacing: not confident on either side; used the default feather's " +
-                             num(d) + " mm");
+      d = prior;
+      out.warnings.push_back(side + " barb spacing: " + why + " on either side; used the prior " + num(d) +
+                             " mm for a " + num(std::round(L)) + " mm feather (docs/analysis.md, \"Barb density\")");
     }
     // Barbs per side = vane length / spacing along the shaft (docs/layout-format.md).
     vp.barb_density = 0;
