@@ -80,7 +80,10 @@ bool has_warning(const std::vector<std::string>& w, const std::string& text) {
 TEST(LayoutToParams, ParamsFollowTheMeasurements) {
   const LayoutParams lp = layout_to_params(known_layout(), "known.json");
   const FeatherParams& p = lp.params;
-  EXPECT_TRUE(lp.warnings.empty());
+  // The one repair: this vane widens from nothing with an infinite slope at its
+  // base, faster than barbs at 40 degrees can follow, so the angles are raised
+  // there (layout_to_params.cpp, make_buildable).
+  for (const auto& w : lp.warnings) EXPECT_NE(w.find("raised where the vane widens"), std::string::npos) << w;
   EXPECT_NEAR(p.shaft.length, kLength, 1e-6);
   // The vane starts between the last bare station (t < 0.15) and the first with width.
   EXPECT_NEAR(p.shaft.calamus_length / kLength, 0.15, 0.05);
@@ -92,8 +95,15 @@ TEST(LayoutToParams, ParamsFollowTheMeasurements) {
     const double x = (t * kLength - p.shaft.calamus_length) / p.vane_length();
     EXPECT_NEAR(p.left.width(x), true_width(t, kWidthLeft), 0.03 * kWidthLeft) << "t=" << t;
     EXPECT_NEAR(p.right.width(x), true_width(t, kWidthRight), 0.03 * kWidthRight) << "t=" << t;
-    EXPECT_NEAR(p.left.angle_deg(x), kAngleLeft, 1e-6);
-    EXPECT_NEAR(p.right.angle_deg(x), kAngleRight, 1e-6);
+    if (t < 0.5) {  // raised where the vane still widens fast, never lowered
+      EXPECT_GE(p.left.angle_deg(x), kAngleLeft - 1e-6) << "t=" << t;
+      EXPECT_LE(p.left.angle_deg(x), kAngleLeft + 10.0) << "t=" << t;
+      EXPECT_GE(p.right.angle_deg(x), kAngleRight - 1e-6) << "t=" << t;
+      EXPECT_LE(p.right.angle_deg(x), kAngleRight + 10.0) << "t=" << t;
+      continue;
+    }
+    EXPECT_NEAR(p.left.angle_deg(x), kAngleLeft, 1e-6) << "t=" << t;
+    EXPECT_NEAR(p.right.angle_deg(x), kAngleRight, 1e-6) << "t=" << t;
   }
 }
 
@@ -252,7 +262,9 @@ TEST(LayoutToParams, WrappedTipAnglesAreIgnoredAndTinyOnesRaised) {
   const LayoutParams lp = layout_to_params(f, "tip.json");
   EXPECT_TRUE(has_warning(lp.warnings, "1 station(s) above 90 degrees ignored"));
   EXPECT_TRUE(has_warning(lp.warnings, "raised to 5"));
-  EXPECT_LE(lp.params.left.angle_deg.max_value(), kAngleLeft + 1e-9);
+  // Toward the tip nothing rises above the measured angle (the base, where the
+  // vane widens fast, is raised: ParamsFollowTheMeasurements).
+  for (double x = 0.5; x <= 1.0; x += 0.01) EXPECT_LE(lp.params.left.angle_deg(x), kAngleLeft + 1e-9) << x;
   EXPECT_GE(lp.params.left.angle_deg.min_value(), 5.0);
 }
 
