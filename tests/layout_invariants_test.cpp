@@ -336,3 +336,25 @@ TEST(LayoutInvariants, FeathersFromThePhotosArePossible) {
   }
   EXPECT_GT(checked, 50);
 }
+
+// No outline shape at all: every value of every station drawn independently.
+TEST(LayoutInvariants, IndependentlyRandomStationsBuildPossibleFeathers) {
+  std::mt19937_64 rng(2027);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (int trial = 0; trial < 60; ++trial) {
+    const double length = 10.0 + 290.0 * U(rng);
+    const int n = 2 + int(30 * U(rng));
+    FeatherLayout f = make_layout(length, -90.0 + 180.0 * U(rng), n);
+    const double wmax = length * (0.02 + 0.6 * U(rng));
+    for (VaneProfile* v : {&f.left, &f.right})
+      for (int i = 0; i < n; ++i) {
+        v->width_mm[i] = wmax * U(rng);
+        v->width_confidence[i] = U(rng);
+        v->barb_angle_deg[i] = 180.0 * U(rng);
+        v->barb_angle_confidence[i] = U(rng);
+        v->barb_spacing_mm[i] = std::exp(std::log(0.05) + std::log(200.0) * U(rng));
+        v->barb_spacing_confidence[i] = U(rng);
+      }
+    expect_sound(f, "jagged" + std::to_string(trial) + ".json");
+  }
+}
