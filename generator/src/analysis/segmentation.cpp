@@ -155,9 +155,11 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   cv::findContours(bin, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
   const double image_area = double(bgr.total());
   std::vector<Component> kept;
+  std::vector<cv::Rect> marks;  // everything that could be a letter, for text lines
   double largest = 0;
   for (auto& c : contours) {
     const double area = cv::contourArea(c);
+    if (area >= 12) marks.push_back(cv::boundingRect(c));
     if (area < std::max(150.0, 3e-4 * image_area)) continue;
     const cv::RotatedRect rr = cv::minAreaRect(c);
     const double len = std::max(rr.size.width, rr.size.height);
@@ -169,11 +171,45 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
     largest = std::max(largest, area);
     kept.push_back(std::move(comp));
   }
-  // Letters and labels are far smaller than the feathers on the same sheet; the
-  // smallest body feathers on a sheet of flight feathers are 4-8 % of the largest.
-  constexpr double kMinRelativeArea = 0.03;
-  for (auto& comp : kept) {
-    if (comp.area < kMinRelativeArea * largest) continue;
+  // Letters and labels: far smaller than the feathers on the same sheet, and
+  // written in lines. A region is text when it is small (under kMinRelativeArea
+  // of the largest) or when it is short (under kTextHeight of the photo's height)
+  // and stands in a line of at least kTextRun marks (any region, however small) of about its height
+  // (within a factor 2) that overlap it vertically by half the smaller height,
+  // each within 1.5 heights of the next: a title, a word of handwriting. Small feathers on a
+  // sheet are stacked in columns, or are taller than that in rows.
+  constexpr double kMinRelativeArea = 0.005, kTextHeight = 0.06;
+  constexpr int kTextRun = 3;
+  std::vector<char> text(kept.size(), 0);
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    const cv::Rect& a = kept[i].bbox;
+    if (a.height > kTextHeight * bgr.rows) continue;
+    auto same_line = [&](const cv::Rect& b) {
+      const int overlap = std::min(a.br().y, b.br().y) - std::max(a.y, b.y);
+      return b.height <= 2 * a.height && a.height <= 2 * b.height &&
+             overlap >= 0.5 * std::min(a.height, b.height);
+    };
+    // Walk the line both ways from this region.
+    int run = 1;
+    for (int dir : {-1, +1}) {
+      cv::Rect cur = a;
+      for (bool found = true; found;) {
+        found = false;
+        for (const cv::Rect& b : marks) {
+          if (b == a || b == cur || !same_line(b)) continue;
+          const int gap = dir > 0 ? b.x - cur.br().x : cur.x - b.br().x;
+          if (gap >= -2 && gap <= 1.5 * std::max(a.height, b.height)) {
+            cur = b, ++run, found = true;
+            break;
+          }
+        }
+      }
+    }
+    text[i] = run >= kTextRun;
+  }
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    Component& comp = kept[i];
+    if (comp.area < kMinRelativeArea * largest || text[i]) continue;
     comp.mask = cv::Mat::zeros(comp.bbox.size(), CV_8U);
     cv::drawContours(comp.mask, std::vector<std::vector<cv::Point>>{comp.contour}, 0,
                      cv::Scalar(255), cv::FILLED, cv::LINE_8, cv::noArray(), 0, -comp.bbox.tl());
