@@ -45,7 +45,7 @@ const plumage::cli::Registration reg{
                      "Report only feather K (1-based, left to right as on the overlay)")
           ->check(CLI::PositiveNumber);
       sub.add_flag("--allow-border", a->allow_border,
-                   "Analyse feathers that touch the image border (a warning instead of an error)");
+                   "Analyse feathers that touch the image border (else they are skipped with a warning)");
       sub.add_option("--max-megapixels", a->max_mp,
                      "Analyse larger photos downscaled to this size (default 16)")
           ->check(CLI::PositiveNumber);

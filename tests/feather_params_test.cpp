@@ -68,8 +68,12 @@ TEST(FeatherParams, EveryOutOfRangeParameterIsNamedWithItsRange) {
       {R"({"left": {"substructure": {"ramus_radius": 6}}})", "left.substructure.ramus_radius", "[0, 5]"},
       {R"({"left": {"substructure": {"ramus_radius": 0.3, "ribbon_width": 0.4}}})", "left.substructure.ramus_radius", "half the ribbon_width"},
       {R"({"right": {"substructure": {"barbule_radius": 2}}})", "right.substructure.barbule_radius", "[0, 1]"},
-      {R"({"right": {"substructure": {"elevation_deg": 91}}})", "right.substructure.elevation_deg", "[0, 90]"},
-      {R"({"right": {"substructure": {"azimuth_deg": -91}}})", "right.substructure.azimuth_deg", "[-90, 90]"},
+      {R"({"right": {"substructure": {"elevation_deg": 91}}})", "right.substructure.elevation_deg", "[1, 90]"},
+      // Elevation 0 used to pass here and be refused by the curve writer; azimuth
+      // 90 to pass the reader and fail at render. One check now (substructure_problem).
+      {R"({"right": {"substructure": {"elevation_deg": 0}}})", "right.substructure.elevation_deg", "[1, 90]"},
+      {R"({"right": {"substructure": {"azimuth_deg": -91}}})", "right.substructure.azimuth_deg", "(-90, 90)"},
+      {R"({"right": {"substructure": {"azimuth_deg": 90}}})", "right.substructure.azimuth_deg", "(-90, 90)"},
       {R"({"right": {"substructure": {"hooked_fraction": 1.5}}})", "right.substructure.hooked_fraction", "[0, 1]"},
       {R"({"right": {"substructure": {"ribbon_width": 11}}})", "right.substructure.ribbon_width", "[0, 10]"},
       {R"({"barb": {"radius_root": 0}})", "barb.radius_root", "[1e-05, 5]"},

@@ -124,13 +124,14 @@ inline Feather random_feather(std::mt19937_64& rng) {
     f.albedo.rect_max = {std::max(a, b), std::max(a, b)};
   }
   for (SubstructureParams* p : {&f.left, &f.right}) {
+    // Anywhere in the ranges every stage accepts (substructure_problem), ends included.
     p->barbules_per_side = int(rng() % 1000);
-    p->ramus_radius = extreme_nonneg(rng);
-    p->barbule_radius = extreme_nonneg(rng);
-    p->elevation_deg = std::max(std::numeric_limits<float>::denorm_min(), 90.0f * unit_interval(rng));
-    p->azimuth_deg = 90.0f * (2.0f * unit_interval(rng) - 1.0f);
+    p->ribbon_width = 10.0f * unit_interval(rng);
+    p->ramus_radius = 0.5f * p->ribbon_width * unit_interval(rng);
+    p->barbule_radius = unit_interval(rng);
+    p->elevation_deg = 1.0f + 89.0f * unit_interval(rng);
+    p->azimuth_deg = std::nextafter(90.0f, 0.0f) * (2.0f * unit_interval(rng) - 1.0f);
     p->hooked_fraction = unit_interval(rng);
-    p->ribbon_width = extreme_nonneg(rng);
   }
   const bool shaft = rng() % 4 != 0;
   const int barbs = int(rng() % 12);

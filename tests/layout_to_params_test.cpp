@@ -48,6 +48,9 @@ FeatherLayout known_layout(double bend_deg = 0.0) {
     return v;
   }()));
   f.shaft_width_mm = 1.6;
+  // Photographed at 0.1 mm/px: barbs 0.8 mm apart are 8 px, resolved.
+  f.feather_from_image = glm::dmat3x2(glm::dvec2(0.1, 0), glm::dvec2(0, -0.1), glm::dvec2(0));
+  f.image_from_feather = glm::dmat3x2(glm::dvec2(10, 0), glm::dvec2(0, -10), glm::dvec2(0));
   for (int i = 0; i < 24; ++i) f.stations_t.push_back((i + 0.5) / 24.0);
   for (auto [v, w, a] : {std::tuple{&f.left, kWidthLeft, kAngleLeft}, std::tuple{&f.right, kWidthRight, kAngleRight}}) {
     for (double t : f.stations_t) {
@@ -77,7 +80,10 @@ bool has_warning(const std::vector<std::string>& w, const std::string& text) {
 TEST(LayoutToParams, ParamsFollowTheMeasurements) {
   const LayoutParams lp = layout_to_params(known_layout(), "known.json");
   const FeatherParams& p = lp.params;
-  EXPECT_TRUE(lp.warnings.empty());
+  // The one repair: this vane widens from nothing with an infinite slope at its
+  // base, faster than barbs at 40 degrees can follow, so the angles are raised
+  // there (layout_to_params.cpp, make_buildable).
+  for (const auto& w : lp.warnings) EXPECT_NE(w.find("raised where the vane widens"), std::string::npos) << w;
   EXPECT_NEAR(p.shaft.length, kLength, 1e-6);
   // The vane starts between the last bare station (t < 0.15) and the first with width.
   EXPECT_NEAR(p.shaft.calamus_length / kLength, 0.15, 0.05);
@@ -89,8 +95,15 @@ TEST(LayoutToParams, ParamsFollowTheMeasurements) {
     const double x = (t * kLength - p.shaft.calamus_length) / p.vane_length();
     EXPECT_NEAR(p.left.width(x), true_width(t, kWidthLeft), 0.03 * kWidthLeft) << "t=" << t;
     EXPECT_NEAR(p.right.width(x), true_width(t, kWidthRight), 0.03 * kWidthRight) << "t=" << t;
-    EXPECT_NEAR(p.left.angle_deg(x), kAngleLeft, 1e-6);
-    EXPECT_NEAR(p.right.angle_deg(x), kAngleRight, 1e-6);
+    if (t < 0.5) {  // raised where the vane still widens fast, never lowered
+      EXPECT_GE(p.left.angle_deg(x), kAngleLeft - 1e-6) << "t=" << t;
+      EXPECT_LE(p.left.angle_deg(x), kAngleLeft + 10.0) << "t=" << t;
+      EXPECT_GE(p.right.angle_deg(x), kAngleRight - 1e-6) << "t=" << t;
+      EXPECT_LE(p.right.angle_deg(x), kAngleRight + 10.0) << "t=" << t;
+      continue;
+    }
+    EXPECT_NEAR(p.left.angle_deg(x), kAngleLeft, 1e-6) << "t=" << t;
+    EXPECT_NEAR(p.right.angle_deg(x), kAngleRight, 1e-6) << "t=" << t;
   }
 }
 
@@ -164,8 +177,46 @@ TEST(LayoutToParams, UnsureValuesAreReplacedWithAWarning) {
   std::fill(f.left.barb_spacing_confidence.begin(), f.left.barb_spacing_confidence.end(), 0.0);
   const LayoutParams none = layout_to_params(f, "unsure.json");
   EXPECT_TRUE(has_warning(none.warnings, "either side"));
+  EXPECT_TRUE(has_warning(none.warnings, "prior"));
   EXPECT_NEAR(none.params.vane_length() / none.params.barb_count(VaneSide::Left),
-              d.vane_length() / d.barb_count(VaneSide::Left), 0.05);
+              barb_spacing_prior_mm(f.length_mm), 0.01);
+}
+
+// Where a photo cannot resolve barbs, a confident "spacing" is the period of
+// texture or colour bars: a 250 mm flight feather at 0.86 mm/px read 13 barbs
+// per side. Each of the three tests sends such a vane to the prior.
+TEST(LayoutToParams, UnresolvedBarbSpacingFallsBackToThePrior) {
+  const double prior = barb_spacing_prior_mm(kLength);
+  EXPECT_GT(prior, 0.25);
+  EXPECT_LT(prior, 0.75);
+  auto count_with = [](FeatherLayout f, double mm, double mm_per_px, double jitter) {
+    f.feather_from_image = glm::dmat3x2(glm::dvec2(mm_per_px, 0), glm::dvec2(0, -mm_per_px), glm::dvec2(0));
+    for (auto* v : {&f.left, &f.right})
+      for (std::size_t i = 0; i < v->barb_spacing_mm.size(); ++i)
+        v->barb_spacing_mm[i] = mm * (1.0 + ((i % 2) ? jitter : -jitter));
+    return layout_to_params(f, "spacing.json");
+  };
+  // Resolved: 0.8 mm at 0.1 mm/px (8 px), stations agree, near the prior.
+  const LayoutParams ok = count_with(known_layout(), kSpacing, 0.1, 0.02);
+  EXPECT_FALSE(has_warning(ok.warnings, "barb spacing"));
+  EXPECT_NEAR(ok.params.vane_length() / ok.params.barb_count(VaneSide::Left), kSpacing, 0.02);
+  // A period of 1 px, stations that disagree by +-50 %, a spacing 10x the prior.
+  for (const auto& [mm, mm_per_px, jitter, reason] :
+       {std::tuple{0.8, 0.8, 0.02, "px is under"}, std::tuple{0.8, 0.1, 0.5, "disagree"},
+        std::tuple{10 * prior, 0.1, 0.02, "of the prior"}}) {
+    const LayoutParams lp = count_with(known_layout(), mm, mm_per_px, jitter);
+    EXPECT_TRUE(has_warning(lp.warnings, reason)) << reason;
+    EXPECT_TRUE(has_warning(lp.warnings, "used the prior")) << reason;
+    for (VaneSide side : {VaneSide::Left, VaneSide::Right})
+      EXPECT_NEAR(lp.params.vane_length() / lp.params.barb_count(side), prior, 0.01) << reason;
+  }
+  // A 250 mm feather gets hundreds of barbs per side, never a skeleton.
+  FeatherLayout big = known_layout();
+  for (auto* v : {&big.left, &big.right})
+    std::fill(v->barb_spacing_confidence.begin(), v->barb_spacing_confidence.end(), 0.0);
+  big.length_mm = 250;
+  const LayoutParams lp = layout_to_params(big, "big.json");
+  EXPECT_GT(lp.params.barb_count(VaneSide::Left), 200);
 }
 
 // The pink photo once gave the right vane two trusted spacing stations, 0.6 mm and
@@ -211,7 +262,9 @@ TEST(LayoutToParams, WrappedTipAnglesAreIgnoredAndTinyOnesRaised) {
   const LayoutParams lp = layout_to_params(f, "tip.json");
   EXPECT_TRUE(has_warning(lp.warnings, "1 station(s) above 90 degrees ignored"));
   EXPECT_TRUE(has_warning(lp.warnings, "raised to 5"));
-  EXPECT_LE(lp.params.left.angle_deg.max_value(), kAngleLeft + 1e-9);
+  // Toward the tip nothing rises above the measured angle (the base, where the
+  // vane widens fast, is raised: ParamsFollowTheMeasurements).
+  for (double x = 0.5; x <= 1.0; x += 0.01) EXPECT_LE(lp.params.left.angle_deg(x), kAngleLeft + 1e-9) << x;
   EXPECT_GE(lp.params.left.angle_deg.min_value(), 5.0);
 }
 

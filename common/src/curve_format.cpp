@@ -72,15 +72,9 @@ void validate_feather(const Feather& f) {
       fail("albedo texture rectangle must be finite with min < max");
   }
   for (VaneSide s : {VaneSide::Left, VaneSide::Right}) {
-    const SubstructureParams& p = f.substructure(s);
-    const bool ok = p.barbules_per_side >= 0 && std::isfinite(p.ramus_radius) && p.ramus_radius >= 0 &&
-                    std::isfinite(p.barbule_radius) && p.barbule_radius >= 0 && p.elevation_deg > 0 &&
-                    p.elevation_deg <= 90 && p.azimuth_deg >= -90 && p.azimuth_deg <= 90 &&
-                    p.hooked_fraction >= 0 && p.hooked_fraction <= 1 && std::isfinite(p.ribbon_width) &&
-                    p.ribbon_width >= 0;
-    if (!ok)
-      fail(std::string("substructure parameters of the ") + to_string(s) +
-           " vane are out of range (docs/curve-format.md)");
+    if (const auto bad = substructure_problem(f.substructure(s)))
+      fail(std::string("substructure ") + to_string(s) + " " + bad->setting + ": " + bad->problem +
+           " (docs/curve-format.md)");
   }
   std::size_t shafts = 0, index = 0;
   for (const Curve& c : f.curves) {
@@ -341,7 +335,7 @@ void Reader::parse_substructure(Feather& f) {
   static constexpr const char* kKeys[] = {"barbules", "ramus_radius",    "barbule_radius", "elevation",
                                           "azimuth",  "hooked_fraction", "ribbon_width"};
   constexpr int kNumKeys = 7;
-  int key_col[kNumKeys] = {};
+  int key_col[kNumKeys] = {}, value_col[kNumKeys] = {};
   for (std::size_t i = 2; i < tok_.size(); i += 2) {
     const Token& key = tok_[i];
     int k = 0;
@@ -355,6 +349,7 @@ void Reader::parse_substructure(Feather& f) {
     if (i + 1 >= tok_.size())
       fail(end_column(), "substructure: expected a value after '" + std::string(key.text) + "'");
     const Token& v = tok_[i + 1];
+    value_col[k] = v.column;
     switch (k) {
       case 0: {
         const std::uint64_t n = unsigned_int(v, "barbules");
@@ -370,14 +365,12 @@ void Reader::parse_substructure(Feather& f) {
         break;
       case 3:
         p.elevation_deg = finite_float(v, "elevation");
-        if (!(p.elevation_deg > 0 && p.elevation_deg <= 90))
-          fail(v, "elevation: must be in (0, 90] degrees, found '" + std::string(v.text) + "'");
         break;
       case 4:
-        p.azimuth_deg = ranged_float(v, "azimuth", -90, 90, "[-90, 90] degrees");
+        p.azimuth_deg = finite_float(v, "azimuth");
         break;
       case 5:
-        p.hooked_fraction = ranged_float(v, "hooked_fraction", 0, 1, "[0, 1]");
+        p.hooked_fraction = finite_float(v, "hooked_fraction");
         break;
       case 6:
         p.ribbon_width = nonneg_float(v, "ribbon_width");
@@ -388,6 +381,13 @@ void Reader::parse_substructure(Feather& f) {
     if (!key_col[k])
       fail(end_column(),
            "substructure " + std::string(side.text) + ": missing required key '" + kKeys[k] + "'");
+  // Ranges: the one check all stages share, reported at the value's key.
+  if (const auto bad = substructure_problem(p)) {
+    int k = 0;
+    while (k < kNumKeys && bad->setting != kKeys[k]) ++k;
+    fail(k < kNumKeys ? value_col[k] : value_col[0], "substructure " + std::string(side.text) + " " + bad->setting +
+                                                     ": " + bad->problem);
+  }
   f.substructure(side.text == "left" ? VaneSide::Left : VaneSide::Right) = p;
 }
 

@@ -1,6 +1,42 @@
 #include "plumage/common/feather.h"
 
+#include <cmath>
+
+#include "float_text.h"
+
 namespace plumage {
+
+namespace {
+std::string number_text(float v) {
+  std::string s;
+  detail::append_float(s, v);
+  return s;
+}
+}  // namespace
+
+std::optional<SubstructureProblem> substructure_problem(const SubstructureParams& p) {
+  auto outside = [](const char* setting, float v, const std::string& range) {
+    return SubstructureProblem{setting, "value " + number_text(v) + " is outside " + range};
+  };
+  auto in = [](double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; };
+  if (!(p.barbules_per_side >= 0 && p.barbules_per_side <= 100000))
+    return outside("barbules", float(p.barbules_per_side), "[0, 100000] barbules per side");
+  if (!in(p.ramus_radius, 0.0, 5.0)) return outside("ramus_radius", p.ramus_radius, "[0, 5] mm");
+  if (!in(p.barbule_radius, 0.0, 1.0)) return outside("barbule_radius", p.barbule_radius, "[0, 1] mm");
+  if (!in(p.elevation_deg, kMinBarbuleElevationDeg, 90.0))
+    return outside("elevation", p.elevation_deg,
+                   "[1, 90] degrees: below 1 degree a barbule lies along the ramus");
+  if (!(std::isfinite(p.azimuth_deg) && std::fabs(p.azimuth_deg) < 90.0))
+    return outside("azimuth", p.azimuth_deg, "(-90, 90) degrees: at 90 a barbule stands on the vane edge-on");
+  if (!in(p.hooked_fraction, 0.0, 1.0)) return outside("hooked_fraction", p.hooked_fraction, "[0, 1]");
+  if (!in(p.ribbon_width, 0.0, 10.0)) return outside("ribbon_width", p.ribbon_width, "[0, 10] mm");
+  if (p.ribbon_width > 0 && p.ramus_radius > 0.5f * p.ribbon_width)
+    return SubstructureProblem{"ramus_radius", "value " + number_text(p.ramus_radius) +
+                                                   " exceeds half the ribbon_width (" +
+                                                   number_text(0.5f * p.ribbon_width) +
+                                                   "); the ramus must fit inside the ribbon"};
+  return std::nullopt;
+}
 
 const char* to_string(CurveKind k) { return k == CurveKind::Shaft ? "shaft" : "barb"; }
 

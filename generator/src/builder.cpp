@@ -167,8 +167,11 @@ struct VaneBuilder {
       }
     }
 
-    // Neighbouring barbs must not cross: restore the order at every station.
-    const double eps = 1e-6 * lv;
+    // Neighbouring barbs must not cross: restore the order at every station,
+    // keeping them at least a tenth of the root spacing apart along the shaft
+    // (a barb squeezed onto its neighbour's control points crosses it once the
+    // vane surface bends them; tests/layout_invariants_test.cpp).
+    const double eps = std::max(1e-6 * lv, 0.1 * spacing);
     for (int j = 1; j < K; ++j) {
       for (int k = 0; k < n; ++k) {
         s[k][j] = std::clamp(s[k][j], k * eps, lv);

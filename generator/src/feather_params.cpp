@@ -96,16 +96,15 @@ void validate_vane(const Checker& c, const std::string& side, const VaneParams& 
   c.range(side + ".barb_bend_deg", v.barb_bend_deg, 0.0, 80.0, "degrees");
   const SubstructureParams& s = v.substructure;
   const std::string ss = side + ".substructure";
-  c.range(ss + ".barbules_per_side", s.barbules_per_side, 0, 100000);
-  c.range(ss + ".ramus_radius", s.ramus_radius, 0.0, 5.0, "mm");
-  c.range(ss + ".barbule_radius", s.barbule_radius, 0.0, 1.0, "mm");
-  c.range(ss + ".elevation_deg", s.elevation_deg, 0.0, 90.0, "degrees");
-  c.range(ss + ".azimuth_deg", s.azimuth_deg, -90.0, 90.0, "degrees");
-  c.range(ss + ".hooked_fraction", s.hooked_fraction, 0.0, 1.0);
-  c.range(ss + ".ribbon_width", s.ribbon_width, 0.0, 10.0, "mm");
-  if (s.ribbon_width > 0 && s.ramus_radius > 0.5 * s.ribbon_width)
-    c.fail(ss + ".ramus_radius", "value " + num(s.ramus_radius) + " exceeds half the ribbon_width (" +
-                                     num(0.5 * s.ribbon_width) + "); the ramus must fit inside the ribbon");
+  // The same ranges as the curve file and the renderer (substructure_problem);
+  // named here by this file's keys.
+  if (const auto bad = substructure_problem(s)) {
+    const std::string key = bad->setting == "barbules"    ? "barbules_per_side"
+                            : bad->setting == "elevation" ? "elevation_deg"
+                            : bad->setting == "azimuth"   ? "azimuth_deg"
+                                                          : bad->setting;
+    c.fail(ss + "." + key, bad->problem);
+  }
 }
 
 }  // namespace

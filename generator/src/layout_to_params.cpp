@@ -117,7 +117,132 @@ double calamus_fraction(const FeatherLayout& f) {
   return 0.0;
 }
 
+// What the generator can build without barbs crossing (docs/analysis.md, "From a
+// layout to a feather that can exist"): a profile resampled onto the vane
+// surface's cage columns and smoothed there, since the Catmull-Clark surface
+// cannot follow a width that changes faster than its cage does, and a barb that
+// ends on a surface edge which does not follow the profile ends off the outline.
+Profile smoothed(const Profile& p, int columns, int passes) {
+  std::vector<glm::dvec2> k;
+  for (int i = 0; i < columns; ++i) {
+    const double x = double(i) / (columns - 1);
+    k.push_back({x, p(x)});
+  }
+  for (int it = 0; it < passes; ++it) {
+    std::vector<glm::dvec2> s = k;
+    for (int i = 1; i + 1 < columns; ++i) s[i].y = 0.25 * k[i - 1].y + 0.5 * k[i].y + 0.25 * k[i + 1].y;
+    k = s;
+  }
+  return Profile(std::move(k));
+}
+
+// Repairs params built from a layout so the generator's barbs cannot cross: the
+// width and angle profiles are smoothed to what the vane's cage can follow, a
+// vane is kept narrower than half the shaft's radius of curvature (on the
+// inside of a bend a wider one folds over itself), a barb angle does not rise
+// along the shaft faster than its neighbours can stay apart, and a barb's own
+// bend stays under half its angle. Each repair is named in `warnings`.
+void make_buildable(FeatherParams& p, std::vector<std::string>& warnings) {
+  const double lv = p.vane_length();
+  // The builder bends the shaft along a circular arc and closes the vane at its
+  // tip; past 45 degrees the inside of the bend cannot hold a vane wide enough to
+  // see without its barbs piling up at the tip.
+  constexpr double kMaxBend = 45.0;
+  if (std::fabs(p.shaft.bend_deg) > kMaxBend) {
+    warnings.push_back("shaft bend: " + num(p.shaft.bend_deg) + " degrees reduced to " + num(kMaxBend) +
+                       " (the generator's arc-shaped shaft cannot carry a vane around a tighter bend)");
+    p.shaft.bend_deg = std::copysign(kMaxBend, p.shaft.bend_deg);
+  }
+  const double turn = std::fabs(p.shaft.bend_deg) * kPi / 180.0;
+  const double radius = turn > 1e-9 ? p.shaft.length / turn : INFINITY;
+  // A finer cage than the presets' follows a measured outline (and a bent shaft)
+  // closely enough that barbs end on it within a barb spacing.
+  p.surface.cage_columns = std::max(p.surface.cage_columns, 48);
+  p.surface.cage_rows = std::max(p.surface.cage_rows, 8);
+  // Short chords between a barb's control points: on a wide, bent vane a long
+  // chord cuts across its neighbour's.
+  p.barb.control_points = std::max(p.barb.control_points, 16);
+  const int columns = p.surface.cage_columns;
+  for (VaneSide side : {VaneSide::Left, VaneSide::Right}) {
+    VaneParams& v = p.vane(side);
+    const std::string name = side == VaneSide::Left ? "left" : "right";
+    const double before = v.width.max_value();
+    Profile w = smoothed(v.width, columns, 2);
+    // A straight barb rooted at r with angle theta meets a line at distance d from
+    // the shaft at r + d cot(theta): neighbours keep their order out to the widest
+    // width W while cot(theta) falls by less than (its change in r) / W; at half
+    // that rate barbs stay at least half a spacing apart. A barb angle rising along
+    // the shaft faster than that is held back.
+    std::vector<glm::dvec2> ak = smoothed(v.angle_deg, columns, 1).knots();
+    // A barb turns toward the tip by barb_bend_deg along its length; it ends at
+    // theta - bend. Kept to half the smallest root angle, so a barb never ends
+    // running along the shaft.
+    double least = 90.0;
+    for (const auto& q : ak) least = std::min(least, q.y);
+    if (v.barb_bend_deg > 0.5 * least) {
+      warnings.push_back(name + " barb bend: " + num(v.barb_bend_deg) + " degrees reduced to " + num(0.5 * least) +
+                         ", half the smallest barb angle");
+      v.barb_bend_deg = 0.5 * least;
+    }
+    const double bend = v.barb_bend_deg;
+    const auto cot_end = [bend](double theta_deg) { return 1.0 / std::tan((theta_deg - bend) * kPi / 180.0); };
+    // A barb keeps its angle theta while the vane's edge moves out by w' per unit
+    // of shaft length only while w' < tan(theta): beyond that the edge runs away
+    // from it, the builder bends it along the shaft and its neighbours pile onto
+    // it. Where the vane widens faster than 0.5 tan(theta_end) (at the base of
+    // most vanes, where analysis reads angles least well) the barb angle is raised,
+    // as real barbs stand steeper there, up to 90 degrees.
+    bool raised = false;
+    for (std::size_t i = 0; i < ak.size(); ++i) {
+      const double x0 = std::max(0.0, ak[i].x - 1.0 / (columns - 1)), x1 = std::min(1.0, ak[i].x + 1.0 / (columns - 1));
+      const double slope = (w(x1) - w(x0)) / ((x1 - x0) * lv);
+      if (!(slope > 0)) continue;
+      const double need = std::min(90.0, std::atan(slope / 0.5) * 180.0 / kPi + bend);
+      if (ak[i].y < need - 1e-9) ak[i].y = need, raised = true;
+    }
+    const double widest = std::max(w.max_value(), 1e-6);
+    // A raised angle must not rise faster along the shaft than the rule below
+    // allows either: the knots before it are raised with it.
+    for (std::size_t i = ak.size() - 1; raised && i-- > 0;) {
+      const double ds = (ak[i + 1].x - ak[i].x) * lv;
+      const double cot_max = cot_end(ak[i + 1].y) + 0.5 * ds / widest;
+      const double floor = std::atan(1.0 / cot_max) * 180.0 / kPi + bend;
+      if (ak[i].y < floor) ak[i].y = std::min(floor, 90.0);
+    }
+    if (raised)
+      warnings.push_back(name + " barb angle: raised where the vane widens faster than its barbs can follow");
+    bool held = false;
+    for (std::size_t i = 1; i < ak.size(); ++i) {
+      const double ds = (ak[i].x - ak[i - 1].x) * lv;
+      const double cot_min = cot_end(ak[i - 1].y) - 0.5 * ds / widest;
+      const double limit = cot_min > 0 ? std::atan(1.0 / cot_min) * 180.0 / kPi + bend : 90.0;
+      if (ak[i].y > limit + 1e-9) ak[i].y = std::min(limit, 90.0), held = true;
+    }
+    for (auto& q : ak) q.y = std::clamp(q.y, 5.0, 90.0);
+    v.angle_deg = Profile(std::move(ak));
+    if (held)
+      warnings.push_back(name + " barb angle: held back where it rose along the shaft so fast that barbs would cross");
+    std::vector<glm::dvec2> k = w.knots();
+    const double cap = 0.25 * radius;
+    for (auto& q : k) q.y = std::min(q.y, cap);
+    k.back().y = 0.0;
+    // The vane closes at the tip over at least a sixth of its width: a vane that
+    // stops square (a tip the segmentation cut off) makes the subdivision surface
+    // bulge past its outline at that corner.
+    constexpr double kMaxClosingSlope = 6.0;
+    for (std::size_t i = k.size() - 1; i-- > 0;)
+      k[i].y = std::min(k[i].y, k[i + 1].y + kMaxClosingSlope * (k[i + 1].x - k[i].x) * lv);
+    v.width = Profile(std::move(k));
+    if (v.width.max_value() < 0.95 * before)
+      warnings.push_back(name + " vane width: narrowed from " + num(before) + " to " + num(v.width.max_value()) +
+                         " mm so its barbs cannot cross (smoothing, bend radius " + num(radius) + " mm)");
+  }
+}
 }  // namespace
+
+double barb_spacing_prior_mm(double length_mm) {
+  return std::clamp(0.25 + 0.002 * length_mm, 0.25, 0.75);
+}
 
 LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source) {
   const Checker check{source};
@@ -150,8 +275,11 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
   p.barb.radius_tip = 0.4 * p.barb.radius_root;
 
   const double vane_length = L - p.shaft.calamus_length;
-  const double preset_spacing = preset.vane_length() / preset.barb_count(VaneSide::Left);
+  const double prior = barb_spacing_prior_mm(L);
+  // Photo millimetres per pixel: the length of a column of the similarity.
+  const double mm_per_px = glm::length(glm::dvec2(f.feather_from_image[0]));
   std::optional<double> spacing[2];
+  std::string refused[2];
   const VaneProfile* sides[2] = {&f.left, &f.right};
   const char* names[2] = {"left", "right"};
   // A side's spacing is the median of its trusted stations, but only when there are
@@ -164,7 +292,28 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
     std::vector<double> values;
     for (const auto& q : sp)
       if (q.y > 0) values.push_back(q.y);
-    if (values.size() >= kMinSpacingStations) spacing[s] = median(values);
+    if (values.size() < kMinSpacingStations) continue;
+    // The photo resolves barbs only when (docs/analysis.md, "Barb density") the
+    // period spans at least kMinPeriodPx pixels, the stations agree (median
+    // absolute deviation within kMaxSpread of the median), and the spacing is
+    // within a factor kPriorFactor of the prior: a "period" of texture, bars or
+    // harmonics at a scale that cannot resolve barbs fails one of the three.
+    constexpr double kMinPeriodPx = 2.5, kMaxSpread = 0.25, kPriorFactor = 4.0;
+    const double m = median(values);
+    std::vector<double> dev;
+    for (double v : values) dev.push_back(std::fabs(v - m));
+    const double spread = median(dev) / m;
+    std::ostringstream why;
+    if (std::isfinite(mm_per_px) && mm_per_px > 0 && m / mm_per_px < kMinPeriodPx)
+      why << "its period " << num(m / mm_per_px) << " px is under " << kMinPeriodPx << " px";
+    else if (spread > kMaxSpread)
+      why << "its stations disagree (spread " << std::lround(100 * spread) << " % of the median)";
+    else if (m < prior / kPriorFactor || m > prior * kPriorFactor)
+      why << num(m) << " mm is not within x" << kPriorFactor << " of the prior " << num(prior) << " mm";
+    if (why.str().empty())
+      spacing[s] = m;
+    else
+      refused[s] = why.str();
   }
   for (int s = 0; s < 2; ++s) {
     const VaneProfile& v = *sides[s];
@@ -192,6 +341,18 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
     if (angle.size() != before)
       out.warnings.push_back(side + " barb angle: " + std::to_string(before - angle.size()) +
                              " station(s) above 90 degrees ignored");
+    // Away from the tip, barbs leave the rachis at 20-70 degrees; an orientation
+    // under 15 degrees there is the texture of unresolved barbs or the rachis and
+    // shaft edges, not barbs (spoonbill sheet at 0.86 mm/px: 5 degrees), and barbs
+    // that flat would run along the shaft for many times the vane's width.
+    constexpr double kMinAngleAwayFromTip = 15.0, kTipZone = 0.9;
+    const auto confident = angle.size();
+    std::erase_if(angle, [&](const glm::dvec2& q) {
+      return q.y < kMinAngleAwayFromTip && (q.x - calamus_t) / (1.0 - calamus_t) < kTipZone;
+    });
+    if (angle.size() != confident)
+      out.warnings.push_back(side + " barb angle: " + std::to_string(confident - angle.size()) +
+                             " station(s) below 15 degrees away from the tip ignored (not barbs)");
     if (angle.empty()) {
       out.warnings.push_back(side + " barb angle: no station is confident; used the default feather's profile");
       for (const auto& k : preset.left.angle_deg.knots())
@@ -202,20 +363,22 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
     vp.angle_deg = vane_profile(angle, calamus_t, 5.0, 90.0);
 
     double d = 0;
+    const std::string why = refused[s].empty() ? "not confident" : "not resolved (" + refused[s] + ")";
     if (spacing[s]) {
       d = *spacing[s];
     } else if (spacing[1 - s]) {
       d = *spacing[1 - s];
-      out.warnings.push_back(side + " barb spacing: not confident; used the " + names[1 - s] + " vane's");
+      out.warnings.push_back(side + " barb spacing: " + why + "; used the " + names[1 - s] + " vane's");
     } else {
-      d = preset_spacing;
-      out.warnings.push_back(side + " barb spacing: not confident on either side; used the default feather's " +
-                             num(d) + " mm");
+      d = prior;
+      out.warnings.push_back(side + " barb spacing: " + why + " on either side; used the prior " + num(d) +
+                             " mm for a " + num(std::round(L)) + " mm feather (docs/analysis.md, \"Barb density\")");
     }
     // Barbs per side = vane length / spacing along the shaft (docs/layout-format.md).
     vp.barb_density = 0;
     vp.barbs = int(std::clamp(std::lround(vane_length / d), 2L, 5000L));
   }
+  make_buildable(p, out.warnings);
   validate(p, source);
   return out;
 }

@@ -40,22 +40,12 @@ BarbSubstructure::BarbSubstructure(const SubstructureParams& p, VaneSide side, s
   const std::string where = std::string(what) + " (" + to_string(side) + " vane): ";
   auto fail = [&](const std::string& msg) { throw Error(where + msg); };
   if (side == VaneSide::None) fail("a barb must belong to the left or right vane to tell distal from proximal");
-  if (!(std::isfinite(p.ribbon_width) && p.ribbon_width > 0))
-    fail("ribbon_width is " + num(p.ribbon_width) +
+  if (const auto bad = substructure_problem(p)) fail(bad->setting + ": " + bad->problem);
+  // In range, but substructure shading also needs a ribbon with a ramus in it.
+  if (!(p.ribbon_width > 0))
+    fail("ribbon_width: value " + num(p.ribbon_width) +
          "; substructure shading needs the barb ribbon's width (mm) in the curve file's substructure record");
-  if (!(std::isfinite(p.ramus_radius) && p.ramus_radius > 0 && p.ramus_radius <= 0.5f * p.ribbon_width))
-    fail("ramus_radius " + num(p.ramus_radius) + " must be > 0 and at most half the ribbon_width (" +
-         num(0.5 * p.ribbon_width) + "); use --ramus-radius");
-  if (p.barbules_per_side < 0) fail("barbules per side must be >= 0; use --barbules");
-  if (!(std::isfinite(p.barbule_radius) && p.barbule_radius >= 0))
-    fail("barbule_radius " + num(p.barbule_radius) + " must be >= 0; use --barbule-radius");
-  if (!(p.elevation_deg >= kMinElevationDeg && p.elevation_deg <= 90))
-    fail("barbule elevation " + num(p.elevation_deg) + " degrees is outside [" + num(kMinElevationDeg) +
-         ", 90]: below that barbules would lie along the ramus; use --barbule-elevation");
-  if (!(std::fabs(p.azimuth_deg) < 90))
-    fail("barbule azimuth " + num(p.azimuth_deg) + " degrees must lie in (-90, 90); use --barbule-azimuth");
-  if (!(p.hooked_fraction >= 0 && p.hooked_fraction <= 1))
-    fail("hooked_fraction " + num(p.hooked_fraction) + " must lie in [0, 1]; use --hooked-fraction");
+  if (!(p.ramus_radius > 0)) fail("ramus_radius: value " + num(p.ramus_radius) + "; substructure shading needs a ramus");
   distal_sign_ = side == VaneSide::Right ? 1.0f : -1.0f;
   half_width_ = 0.5f * p.ribbon_width;
   sin_theta_ = std::sin(p.elevation_deg * kDegToRad);

@@ -156,16 +156,45 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
   clock.lap("scale");
 
   std::vector<OverlayFeather> drawn;
+  std::vector<OverlaySkipped> skipped_drawn;
+  // A region that cannot be analysed is skipped with a warning so the rest of a
+  // sheet still is; asked for by --feather, or the only one, it is an error.
+  std::string first_refusal;
+  auto skip = [&](const Component& comp, int k, const char* reason, const std::string& what,
+                  const std::string& fix) {
+    std::ostringstream box;
+    box << " (box " << std::lround(comp.bbox.x / ds) << "," << std::lround(comp.bbox.y / ds) << " "
+        << std::lround(comp.bbox.width / ds) << "x" << std::lround(comp.bbox.height / ds) << " px)";
+    const std::string refusal = "feather " + std::to_string(k) + " " + what + box.str() + "; " + fix;
+    if (opt.feather) throw Error(where, refusal);
+    if (first_refusal.empty()) first_refusal = refusal;
+    SkippedRegion s;
+    s.id = k;
+    s.bbox_px = {int(std::floor(comp.bbox.x / ds)), int(std::floor(comp.bbox.y / ds)),
+                 int(std::ceil(comp.bbox.width / ds)), int(std::ceil(comp.bbox.height / ds))};
+    s.reason = reason;
+    s.message = "skipped: " + what + box.str();
+    out.warnings.push_back("feather " + std::to_string(k) + " " + s.message);
+    L.skipped.push_back(std::move(s));
+    skipped_drawn.push_back({k, comp.contour, std::string(reason) == "touches_border"});
+  };
   for (int k = 1; k <= count; ++k) {
     if (opt.feather && *opt.feather != k) continue;
     const Component& comp = seg.feathers[k - 1];
     if (comp.touches_border && !opt.allow_border) {
-      std::ostringstream m;
-      m << "feather " << k << " touches the image border (box " << comp.bbox.x / ds << ","
-        << comp.bbox.y / ds << " " << comp.bbox.width / ds << "x" << comp.bbox.height / ds
-        << " px), so it may be cut off; photograph it with a margin, pick another with --feather, "
-           "or pass --allow-border to analyse it anyway";
-      throw Error(where, m.str());
+      skip(comp, k, "touches_border", "touches the image border, so it may be cut off",
+           "photograph it with a margin, pick another with --feather, or pass --allow-border to "
+           "analyse it anyway");
+      continue;
+    }
+    if (comp.unseparated) {
+      std::ostringstream what;
+      what << "is several feathers that touch or overlap and could not be told apart ("
+           << (comp.cores > 1 ? std::to_string(comp.cores) + " cores" : "fills " +
+               std::to_string(int(std::lround(100 * comp.solidity))) + " % of its hull") << ")";
+      skip(comp, k, "unseparated", what.str(),
+           "lay them apart on the card and photograph them again, or pick another with --feather");
+      continue;
     }
     try {
       analyze_feather(photo, seg, comp, k, opt, L, out, drawn, clock);
@@ -175,8 +204,9 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
       throw Error(where, "feather " + std::to_string(k) + ": " + e.message());
     }
   }
-  out.overlay = to_image_linear(
-      draw_overlay(photo.bgr, drawn, mm_per_work_px, L.scale, grid, seg.foreground));
+  if (L.feathers.empty()) throw Error(where, first_refusal);
+  out.overlay = to_image_linear(draw_overlay(photo.bgr, drawn, skipped_drawn, mm_per_work_px,
+                                             L.scale, grid, seg.foreground));
   clock.lap("overlay");
   return out;
 }

@@ -25,8 +25,8 @@ constexpr int kMaxSide = 2048;
 }  // namespace
 
 cv::Mat draw_overlay(const cv::Mat& bgr, const std::vector<OverlayFeather>& feathers,
-                     double mm_per_px, const LayoutScale& scale, const GridScale& grid,
-                     const cv::Mat& busy) {
+                     const std::vector<OverlaySkipped>& skipped, double mm_per_px,
+                     const LayoutScale& scale, const GridScale& grid, const cv::Mat& busy) {
   cv::Mat img;
   const double g_k = std::min(1.0, double(kMaxSide) / std::max(bgr.cols, bgr.rows));
   const auto px = [g_k](const glm::dvec2& p) {  // working pixels to overlay pixels
@@ -78,6 +78,23 @@ cv::Mat draw_overlay(const cv::Mat& bgr, const std::vector<OverlayFeather>& feat
     at.x = std::clamp(at.x, 2, std::max(2, img.cols - ts.width - 2));
     at.y = std::clamp(at.y, ts.height + 2, img.rows - 2);
     label(img, s.str(), at, font, white);
+  }
+  // Skipped regions: red when on the border, orange when feathers touch or
+  // overlap; the label says which.
+  const cv::Scalar orange(0, 140, 255);
+  for (const OverlaySkipped& s : skipped) {
+    std::vector<cv::Point> outline;
+    for (const cv::Point& p : s.contour) outline.push_back(px(glm::dvec2(p.x, p.y)));
+    cv::polylines(img, outline, true, s.touches_border ? red : orange, th + 1, cv::LINE_AA);
+    const cv::Rect box = cv::boundingRect(outline);
+    const std::string text =
+        "F" + std::to_string(s.id) + (s.touches_border ? " skipped: border" : " skipped: touching");
+    int base = 0;
+    const cv::Size ts = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, font, th, &base);
+    cv::Point at(box.x + box.width / 2 - ts.width / 2, box.y + box.height / 2);
+    at.x = std::clamp(at.x, 2, std::max(2, img.cols - ts.width - 2));
+    at.y = std::clamp(at.y, ts.height + 2, img.rows - 2);
+    label(img, text, at, font, s.touches_border ? red : orange);
   }
   // Scale bar: a round number of millimetres near a tenth of the width.
   const double target_mm = 0.12 * img.cols * mm_per_px;

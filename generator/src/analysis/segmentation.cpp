@@ -72,6 +72,34 @@ void close_barb_gaps(Component& comp) {
                    cv::FILLED, cv::LINE_8, cv::noArray(), 0, -comp.bbox.tl());
 }
 
+// Feathers that touch or overlap make one blob. A feather's vane is one
+// ribbon: the part of it at least kCore of its widest half-width away from the
+// background is one connected piece along the shaft. Two feathers side by side
+// or tip to quill give two such pieces of comparable size (a narrow neck where
+// they touch is below the level). Pieces under kMinPiece of the largest are
+// noise (a lobe of a split vane), not a second feather. Levels chosen on the
+// sheets in ../shared/photos (docs/analysis.md, "Sheets").
+constexpr double kCore = 0.6, kMinPiece = 0.15;
+// A single feather fills most of its convex hull (0.63-0.99 on those sheets); a
+// fan or a row of downy feathers on a string leaves the background between
+// them inside it.
+constexpr double kMinSolidity = 0.6;
+int count_cores(const cv::Mat& mask) {
+  cv::Mat padded, dt;
+  cv::copyMakeBorder(mask, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  cv::distanceTransform(padded, dt, cv::DIST_L2, 3);
+  double most = 0;
+  cv::minMaxLoc(dt, nullptr, &most);
+  if (most < 2) return 1;
+  cv::Mat core = dt >= kCore * most, labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(core, labels, stats, centroids, 8, CV_32S);
+  int largest = 0;
+  for (int i = 1; i < n; ++i) largest = std::max(largest, stats.at<int>(i, cv::CC_STAT_AREA));
+  int pieces = 0;
+  for (int i = 1; i < n; ++i) pieces += stats.at<int>(i, cv::CC_STAT_AREA) >= kMinPiece * largest;
+  return std::max(1, pieces);
+}
+
 }  // namespace
 
 Segmentation segment_feathers(const cv::Mat& bgr) {
@@ -127,9 +155,11 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   cv::findContours(bin, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
   const double image_area = double(bgr.total());
   std::vector<Component> kept;
+  std::vector<cv::Rect> marks;  // everything that could be a letter, for text lines
   double largest = 0;
   for (auto& c : contours) {
     const double area = cv::contourArea(c);
+    if (area >= 12) marks.push_back(cv::boundingRect(c));
     if (area < std::max(150.0, 3e-4 * image_area)) continue;
     const cv::RotatedRect rr = cv::minAreaRect(c);
     const double len = std::max(rr.size.width, rr.size.height);
@@ -141,13 +171,54 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
     largest = std::max(largest, area);
     kept.push_back(std::move(comp));
   }
-  // Letters and labels are far smaller than the feathers on the same sheet.
-  for (auto& comp : kept) {
-    if (comp.area < 0.12 * largest) continue;
+  // Letters and labels: far smaller than the feathers on the same sheet, and
+  // written in lines. A region is text when it is small (under kMinRelativeArea
+  // of the largest) or when it is short (under kTextHeight of the photo's height)
+  // and stands in a line of at least kTextRun marks (any region, however small) of about its height
+  // (within a factor 2) that overlap it vertically by half the smaller height,
+  // each within 1.5 heights of the next: a title, a word of handwriting. Small feathers on a
+  // sheet are stacked in columns, or are taller than that in rows.
+  constexpr double kMinRelativeArea = 0.005, kTextHeight = 0.06;
+  constexpr int kTextRun = 3;
+  std::vector<char> text(kept.size(), 0);
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    const cv::Rect& a = kept[i].bbox;
+    if (a.height > kTextHeight * bgr.rows) continue;
+    auto same_line = [&](const cv::Rect& b) {
+      const int overlap = std::min(a.br().y, b.br().y) - std::max(a.y, b.y);
+      return b.height <= 2 * a.height && a.height <= 2 * b.height &&
+             overlap >= 0.5 * std::min(a.height, b.height);
+    };
+    // Walk the line both ways from this region.
+    int run = 1;
+    for (int dir : {-1, +1}) {
+      cv::Rect cur = a;
+      for (bool found = true; found;) {
+        found = false;
+        for (const cv::Rect& b : marks) {
+          if (b == a || b == cur || !same_line(b)) continue;
+          const int gap = dir > 0 ? b.x - cur.br().x : cur.x - b.br().x;
+          if (gap >= -2 && gap <= 1.5 * std::max(a.height, b.height)) {
+            cur = b, ++run, found = true;
+            break;
+          }
+        }
+      }
+    }
+    text[i] = run >= kTextRun;
+  }
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    Component& comp = kept[i];
+    if (comp.area < kMinRelativeArea * largest || text[i]) continue;
     comp.mask = cv::Mat::zeros(comp.bbox.size(), CV_8U);
     cv::drawContours(comp.mask, std::vector<std::vector<cv::Point>>{comp.contour}, 0,
                      cv::Scalar(255), cv::FILLED, cv::LINE_8, cv::noArray(), 0, -comp.bbox.tl());
     close_barb_gaps(comp);
+    comp.cores = count_cores(comp.mask);
+    std::vector<cv::Point> hull;
+    cv::convexHull(comp.contour, hull);
+    comp.solidity = comp.area / std::max(1.0, cv::contourArea(hull));
+    comp.unseparated = comp.cores > 1 || comp.solidity < kMinSolidity;
     comp.touches_border = comp.bbox.x <= 1 || comp.bbox.y <= 1 ||
                           comp.bbox.br().x >= bgr.cols - 1 || comp.bbox.br().y >= bgr.rows - 1;
     seg.feathers.push_back(std::move(comp));

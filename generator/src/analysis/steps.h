@@ -31,6 +31,11 @@ struct Component {
   std::vector<cv::Point> contour;  // working image coordinates
   double area = 0;
   bool touches_border = false;
+  // Two or more feathers that touch or overlap and were not told apart (the
+  // blob's distance-transform core falls apart into several pieces).
+  bool unseparated = false;
+  int cores = 1;        // pieces of the distance-transform core
+  double solidity = 1;  // area / convex hull area
 };
 struct Segmentation {
   bool dark_background = false;
@@ -95,8 +100,14 @@ struct OverlayFeather {
   double length_mm = 0;
   bool touches_border = false;
 };
+// A region found but not analysed (SkippedRegion): outlined and labelled with why.
+struct OverlaySkipped {
+  int id = 1;
+  std::vector<cv::Point> contour;
+  bool touches_border = false;  // else: feathers that could not be separated
+};
 cv::Mat draw_overlay(const cv::Mat& bgr, const std::vector<OverlayFeather>& feathers,
-                     double mm_per_work_px, const LayoutScale& scale, const GridScale& grid,
-                     const cv::Mat& busy);
+                     const std::vector<OverlaySkipped>& skipped, double mm_per_work_px,
+                     const LayoutScale& scale, const GridScale& grid, const cv::Mat& busy);
 
 }  // namespace plumage::analysis

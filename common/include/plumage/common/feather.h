@@ -50,6 +50,21 @@ struct SubstructureParams {
   bool operator==(const SubstructureParams&) const = default;
 };
 
+// The one range check of SubstructureParams, used by the generator's validate(),
+// the curve file reader and writer and the renderer: the first value out of range,
+// named by its key in the curve file's substructure record (docs/curve-format.md:
+// barbules, ramus_radius, barbule_radius, elevation, azimuth, hooked_fraction,
+// ribbon_width), or nothing. Callers add where the value came from; only the CLI
+// names its flags.
+struct SubstructureProblem {
+  std::string setting;  // curve-format key
+  std::string problem;  // "value 0 is outside [1, 90] degrees: ..."
+};
+std::optional<SubstructureProblem> substructure_problem(const SubstructureParams& p);
+// Below this barbule elevation (theta_b) a barbule lies along the ramus and its
+// period across the ribbon vanishes.
+inline constexpr float kMinBarbuleElevationDeg = 1.0f;
+
 // Where the albedo comes from: a constant linear RGB colour, or a texture image
 // mapped onto the feather's XY plane by an axis-aligned rectangle (mm).
 struct Albedo {

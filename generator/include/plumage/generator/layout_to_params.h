@@ -29,6 +29,11 @@ struct LayoutParams {
 // Measurements with confidence below this are not trusted (docs/layout-format.md).
 inline constexpr double kLayoutMinConfidence = 0.5;
 
+// Barb spacing along the rachis (mm, each side) assumed for a feather of this
+// shaft length when the photo does not resolve its barbs (docs/analysis.md,
+// "Barb density": 0.25 mm + 0.2 % of the length, within [0.25, 0.75] mm).
+double barb_spacing_prior_mm(double length_mm);
+
 // Throws plumage::Error naming `source` (the layout file) and the bad value when
 // the layout cannot describe a feather (no shaft length, stations out of order,
 // profiles of the wrong length, non-finite numbers).

@@ -42,14 +42,13 @@ struct StructureSample {
 // trigonometry they need, precomputed once.
 class BarbSubstructure {
  public:
-  // Throws plumage::Error naming `what` and the parameter for unusable values:
-  // side None, W <= 0, r_r <= 0 or r_r > W/2, N < 0, r_b < 0, theta_b outside
-  // [kMinElevationDeg, 90], |phi_b| >= 90, hooked fraction outside [0, 1].
+  // Throws plumage::Error naming `what` and the setting (its curve-format key)
+  // for side None, any value substructure_problem() refuses, W <= 0 or r_r <= 0.
   BarbSubstructure(const SubstructureParams& params, VaneSide side, std::string_view what = "substructure");
 
   // Barbules closer to the barb than this are rejected: as theta_b -> 0 a barbule
   // becomes a line along the ramus and its period across the ribbon vanishes.
-  static constexpr float kMinElevationDeg = 1.0f;
+  static constexpr float kMinElevationDeg = kMinBarbuleElevationDeg;
 
   // G_b (Algorithm 1) at arc length s along a barb of length L and offset w.
   StructureHit classify(double s, double w, double length) const;

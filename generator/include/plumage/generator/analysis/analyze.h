@@ -18,7 +18,7 @@ struct AnalyzeOptions {
   double grid_mm = 10.0;             // physical spacing of a grid's lines (Feather Atlas: 20)
   double default_mm_per_px = 0.1;    // used, with low confidence, when nothing else is known
   std::optional<int> feather;        // 1-based; report only this feather
-  bool allow_border = false;         // a feather touching the border: error unless set
+  bool allow_border = false;         // a feather touching the border: skipped unless set
   double max_megapixels = 16.0;      // larger photos are analysed downscaled to this
   double refuse_megapixels = 400.0;  // memory guard: larger photos are refused unread
   int stations = 24;                 // profile samples along the shaft
@@ -34,7 +34,9 @@ struct PhotoAnalysis {
 };
 
 // Throws plumage::Error naming the photo for unreadable input, no feather found,
-// a feather touching the border (unless allowed), or an out-of-range --feather.
+// an out-of-range --feather, or when the picked region (or every region) is one
+// that is otherwise skipped: touching the border (unless allowed) or several
+// feathers not told apart. Skipped regions are in layout.skipped and warnings.
 PhotoAnalysis analyze_photo(const std::filesystem::path& photo, const AnalyzeOptions& options);
 
 // Writes layout.json, the albedo PNGs next to it (<stem>.feather<K>.albedo.png)

@@ -61,6 +61,17 @@ struct FeatherLayout {
   std::vector<std::string> warnings;
 };
 
+// A region of the photo that was found but not analysed: a feather touching the
+// border (it may be cut off) or a blob of feathers that touch or overlap and
+// could not be told apart. It keeps its id, so the numbering on the overlay and
+// for --feather is the same with or without it.
+struct SkippedRegion {
+  int id = 1;
+  std::array<int, 4> bbox_px{};  // x, y, w, h (photo pixels)
+  std::string reason;            // "touches_border" or "unseparated"
+  std::string message;           // for a person: what was seen and what to do
+};
+
 struct Layout {
   std::string source_image;               // the photo's path as given
   int image_width = 0, image_height = 0;  // full resolution
@@ -68,6 +79,7 @@ struct Layout {
   std::string background;                 // "light" or "dark"
   LayoutScale scale;
   std::vector<FeatherLayout> feathers;
+  std::vector<SkippedRegion> skipped;  // in id order
 };
 
 // Maps a point with a 2x3 affine matrix.

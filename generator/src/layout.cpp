@@ -274,6 +274,10 @@ std::string layout_to_json(const Layout& L) {
                              {"touches_border", f.touches_border},
                              {"warnings", f.warnings}});
   }
+  ojson skipped = ojson::array();
+  for (const SkippedRegion& s : L.skipped)
+    skipped.push_back(
+        ojson{{"id", s.id}, {"bbox_px", s.bbox_px}, {"reason", s.reason}, {"message", s.message}});
   const ojson doc = {{"format", kFormat},
                      {"version", kVersion},
                      {"image",
@@ -288,7 +292,8 @@ std::string layout_to_json(const Layout& L) {
                        {"confidence", L.scale.confidence},
                        {"grid_period_px", L.scale.grid_period_px},
                        {"grid_mm", L.scale.grid_mm}}},
-                     {"feathers", feathers}};
+                     {"feathers", feathers},
+                     {"skipped", skipped}};
   std::string out;
   dump(doc, 0, out);
   return out + "\n";
@@ -344,6 +349,23 @@ Layout parse_layout(const std::string& text, const std::string& source) {
   if (!fs.is_array() || fs.empty()) r.fail("/feathers", "expected a non-empty array of feathers");
   for (std::size_t i = 0; i < fs.size(); ++i)
     L.feathers.push_back(r.feather(fs[i], "/feathers/" + std::to_string(i)));
+  // Optional: layouts written before regions could be skipped have none.
+  if (doc.contains("skipped")) {
+    const json& sk = doc["skipped"];
+    if (!sk.is_array()) r.fail("/skipped", "expected an array of skipped regions");
+    for (std::size_t i = 0; i < sk.size(); ++i) {
+      const std::string p = "/skipped/" + std::to_string(i);
+      SkippedRegion s;
+      s.id = r.integer(r.member(sk[i], p, "id"), p + "/id", 1, 1 << 20);
+      const auto bb = r.numbers(r.member(sk[i], p, "bbox_px"), p + "/bbox_px", 4, 0.0, 1e9);
+      for (int k = 0; k < 4; ++k) s.bbox_px[k] = int(bb[k]);
+      s.reason = r.string(r.member(sk[i], p, "reason"), p + "/reason");
+      if (s.reason != "touches_border" && s.reason != "unseparated")
+        r.fail(p + "/reason", "expected \"touches_border\" or \"unseparated\"");
+      s.message = r.string(r.member(sk[i], p, "message"), p + "/message");
+      L.skipped.push_back(std::move(s));
+    }
+  }
   return L;
 }
 

@@ -1,0 +1,89 @@
+#!/usr/bin/env bash
+# The photo study (issue 11): `plumage analyze` and `plumage generate` on every photo
+# in ../shared/photos; writes the overlays to docs/images/study-<photo>.jpg and a
+# table (feathers by eye, analysed, skipped and why, barbs per side, shaft length,
+# warnings) into docs/analysis.md between the photo-study markers. The counts by eye
+# are data/photo-study/counts.json (tests/photo_study_test.cpp holds analysis to them).
+#   scripts/photo_study.sh            (needs a built build/plumage)
+#   BUILD_DIR=... PHOTOS=... scripts/photo_study.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${BUILD_DIR:-build}
+photos=${PHOTOS:-../shared/photos}
+[ -d "$photos" ] || { echo "photo_study.sh: no $photos" >&2; exit 1; }
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+for photo in "$photos"/*.jpg "$photos"/*.png; do
+  [ -f "$photo" ] || continue
+  name=$(basename "$photo"); stem=${name%.*}
+  grid=$(python3 -c "import json,sys; p=json.load(open('data/photo-study/counts.json'))['photos'].get(sys.argv[1],{}); print(p.get('grid_mm',''))" "$name")
+  opts=(); [ -n "$grid" ] && opts=(--grid-mm "$grid")
+  start=$(date +%s.%N)
+  rc=0
+  "$build/plumage" analyze "$photo" -o "$out/$stem.json" --overlay "$out/$stem.png" "${opts[@]}" \
+    2> "$out/$stem.analyze.txt" || rc=$?
+  end=$(date +%s.%N)
+  echo "$rc $(echo "$end - $start" | bc)" > "$out/$stem.rc"
+  [ "$rc" = 0 ] || continue
+  for id in $(python3 -c "import json,sys; print(' '.join(str(f['id']) for f in json.load(open(sys.argv[1]))['feathers']))" "$out/$stem.json"); do
+    "$build/plumage" generate --layout "$out/$stem.json" --feather "$id" -o "$out/$stem.f$id.fcurves" \
+      > "$out/$stem.f$id.gen.txt" 2>&1 || echo "generate failed: $?" >> "$out/$stem.f$id.gen.txt"
+  done
+  if command -v oiiotool > /dev/null; then
+    width=$(oiiotool --info "$out/$stem.png" | sed -E 's/.*: +([0-9]+) x .*/\1/')
+    resize=(); [ "$width" -gt 1000 ] && resize=(--resize 1000x0)
+    oiiotool "$out/$stem.png" "${resize[@]}" --compression jpeg:80 -o "docs/images/study-$stem.jpg"
+  else
+    cp "$out/$stem.png" "docs/images/study-$stem.png"
+  fi
+done
+python3 - "$out" "$photos" docs/analysis.md <<'PY'
+import sys, os, json, glob, re, statistics
+out, photos, doc_path = sys.argv[1:4]
+counts = json.load(open("data/photo-study/counts.json"))["photos"]
+rows = ["| photo | by eye | analysed | skipped (id: why) | barbs per side, median (range) | shaft length mm (range) | warnings | analyze exit, wall s |",
+        "|---|---|---|---|---|---|---|---|"]
+for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
+    stem = os.path.basename(rc_file)[:-3]
+    name = next((n for n in counts if os.path.splitext(n)[0] == stem), stem)
+    rc, wall = open(rc_file).read().split()
+    eye = counts.get(name, {}).get("feathers", 0)
+    eye_text = str(eye) if eye else "not counted"
+    if rc != "0":
+        err = open(os.path.join(out, stem + ".analyze.txt")).read().strip().splitlines()
+        rows.append(f"| {name} | {eye_text} | — | — | — | — | {err[-1] if err else ''} | {rc}, {float(wall):.2f} |")
+        continue
+    L = json.load(open(os.path.join(out, stem + ".json")))
+    skipped = ", ".join(f"{s['id']}: {'border' if s['reason'] == 'touches_border' else 'touching'}" for s in L.get("skipped", []))
+    barbs, lengths, kinds = [], [], {}
+    for f in L["feathers"]:
+        lengths.append(f["shaft"]["length_mm"])
+        gen = open(os.path.join(out, f"{stem}.f{f['id']}.gen.txt")).read()
+        m = re.search(r"\(left (\d+), right (\d+)\)", gen)
+        if m: barbs += [int(m.group(1)), int(m.group(2))]
+        for line in gen.splitlines():
+            if "warning:" not in line: continue
+            w = line.split(": ", 3)[-1]
+            key = ("spacing: prior" if "used the prior" in w else "spacing: other vane" if "vane's" in w
+                   else "angle raised (vane widens)" if "raised where" in w else "angle held" if "held back" in w
+                   else "angles < 15 deg ignored" if "below 15" in w else "angles > 90 deg ignored" if "above 90" in w
+                   else "barb bend reduced" if "barb bend" in w else "width narrowed" if "narrowed" in w
+                   else "shaft bend reduced" if "shaft bend" in w else "no confident angle" if "no station is confident" in w
+                   else "other")
+            kinds[key] = kinds.get(key, 0) + 1
+    b = f"{statistics.median(barbs):.0f} ({min(barbs)}–{max(barbs)})" if barbs else "—"
+    l = f"{min(lengths):.0f}–{max(lengths):.0f}" if lengths else "—"
+    warn = "; ".join(f"{k} ×{v}" for k, v in sorted(kinds.items(), key=lambda kv: -kv[1]))
+    rows.append(f"| {name} | {eye_text} | {len(L['feathers'])} | {skipped or '—'} | {b} | {l} | {warn or '—'} | {rc}, {float(wall):.2f} |")
+table = "\n".join(rows) + "\n"
+doc = open(doc_path).read()
+begin, end = "<!-- photo-study:begin -->", "<!-- photo-study:end -->"
+if begin not in doc or end not in doc:
+    sys.exit(f"{doc_path}: no {begin} ... {end} markers; add them where the table goes")
+head, rest = doc.split(begin, 1)
+_, tail = rest.split(end, 1)
+tmp = doc_path + ".tmp"
+open(tmp, "w").write(head + begin + "\n" + table + end + tail)
+os.replace(tmp, doc_path)
+PY
+echo "photo_study.sh: table in docs/analysis.md, overlays in docs/images/study-*.jpg"
