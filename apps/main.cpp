@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "command.h"
+#include "option_checks.h"
 #include "plumage/common/error.h"
 #include "plumage/common/progress.h"
 #include "plumage/common/stats.h"
@@ -40,6 +41,8 @@ int main(int argc, char** argv) {
     auto fn = std::make_shared<std::function<int()>>(spec.setup(*sub));
     sub->callback([fn, &run] { run = *fn; });
   }
+
+  cli::check_option_types(app);
 
   try {
     app.parse(argc, argv);

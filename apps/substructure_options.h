@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "option_checks.h"
 #include "plumage/common/feather.h"
 
 namespace plumage::cli {
@@ -15,7 +16,8 @@ struct SubstructureOverrides {
   std::optional<float> elevation_deg, azimuth_deg, ramus_radius, barbule_radius, hooked_fraction, ribbon_width;
 
   void add_to(CLI::App& app) {
-    app.add_option("--barbules", barbules, "Substructure: barbules per side of each barb, N (both vanes)");
+    app.add_option("--barbules", barbules, "Substructure: barbules per side of each barb, N (both vanes)")
+        ->check(in_range(0, 2147483647));
     app.add_option("--barbule-elevation", elevation_deg, "Substructure: barbule angle from the barb in the vane, theta_b (degrees, 1..90)");
     app.add_option("--barbule-azimuth", azimuth_deg, "Substructure: barbule lift out of the vane, phi_b (degrees)");
     app.add_option("--ramus-radius", ramus_radius, "Substructure: ramus radius r_r (mm)");
