@@ -113,8 +113,8 @@ TEST_F(FileBatchTest, InputsMustBeRegularFiles) {
 TEST_F(FileBatchTest, ImageReaderRefusesHugeAndCutShortFiles) {
   write_image(dir_ / "ok.png", Image(64, 48, 3, 0.5f));
   write_image(dir_ / "ok.jpg", Image(64, 48, 3, 0.5f));
-  EXPECT_EQ(truncation_of(dir_ / "ok.png"), "");
-  EXPECT_EQ(truncation_of(dir_ / "ok.jpg"), "");
+  EXPECT_EQ(damage_of(dir_ / "ok.png"), "");
+  EXPECT_EQ(damage_of(dir_ / "ok.jpg"), "");
   EXPECT_EQ(read_image(dir_ / "ok.png").width, 64);
   // Above a limit of 0.001 megapixels: refused from the header, with the size and the limit.
   try {
@@ -128,11 +128,26 @@ TEST_F(FileBatchTest, ImageReaderRefusesHugeAndCutShortFiles) {
     const std::string bytes = read_file(dir_ / name);
     const fs::path cut = dir_ / (std::string("cut_") + name);
     write_file_atomic(cut, bytes.substr(0, bytes.size() - 20));
-    EXPECT_NE(truncation_of(cut).find("cut short"), std::string::npos) << name;
+    EXPECT_NE(damage_of(cut).find("cut short"), std::string::npos) << name;
     StderrCapture nothing_else;  // and the decoders print nothing
     EXPECT_THROW(read_image(cut), Error) << name;
     EXPECT_EQ(nothing_else.text(), "") << name;
   }
+}
+
+// An OpenEXR header whose attribute claims more bytes than the file holds would
+// make OpenEXR allocate that much while opening it (found by fuzz_image).
+TEST_F(FileBatchTest, ImageReaderRefusesADamagedExrHeader) {
+  write_image(dir_ / "ok.exr", Image(16, 8, 3, 0.25f));
+  EXPECT_EQ(damage_of(dir_ / "ok.exr"), "");
+  EXPECT_EQ(read_image(dir_ / "ok.exr").height, 8);
+  std::string bytes = read_file(dir_ / "ok.exr");
+  const std::size_t name_end = bytes.find('\0', 8), type_end = bytes.find('\0', name_end + 1);
+  ASSERT_LT(type_end + 5, bytes.size());
+  bytes.replace(type_end + 1, 4, std::string("\x00\x00\x00\x5e", 4));  // 1.5 GB
+  write_file_atomic(dir_ / "bad.exr", bytes);
+  EXPECT_NE(damage_of(dir_ / "bad.exr").find("past the end of the file"), std::string::npos) << damage_of(dir_ / "bad.exr");
+  EXPECT_THROW(read_image(dir_ / "bad.exr"), Error);
 }
 
 TEST(StderrCaptureTest, HoldsBackWhatIsPrintedAndRestoresStderr) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <sstream>
 
@@ -87,7 +88,44 @@ void write_image(const fs::path& path, const Image& img) {
   batch.commit();
 }
 
-std::string truncation_of(const fs::path& path) {
+namespace {
+std::int32_t le32(const std::string& b, std::size_t at) {
+  std::uint32_t v = 0;
+  for (int k = 3; k >= 0; --k) v = (v << 8) | static_cast<unsigned char>(b[at + std::size_t(k)]);
+  return static_cast<std::int32_t>(v);
+}
+
+// OpenEXR's first header: attributes (name, type, int32 size, value) up to an
+// empty name. Every value must lie inside the file, and the data window
+// (box2i xMin, yMin, xMax, yMax) must be a sane rectangle.
+std::string exr_header_damage(const std::string& b) {
+  std::size_t at = 8;  // magic and version
+  for (int attributes = 0; attributes < 10000; ++attributes) {
+    const std::size_t name_end = b.find('\0', at);
+    if (name_end == std::string::npos) break;
+    if (name_end == at) return {};  // the header ends
+    const std::string name = b.substr(at, name_end - at);
+    const std::size_t type_end = b.find('\0', name_end + 1);
+    if (type_end == std::string::npos || type_end + 5 > b.size()) break;
+    const std::string type = b.substr(name_end + 1, type_end - name_end - 1);
+    const std::int32_t size = le32(b, type_end + 1);
+    const std::size_t value = type_end + 5;
+    if (size < 0 || value + std::size_t(size) > b.size())
+      return "the OpenEXR header is damaged (attribute '" + name + "' claims " + std::to_string(size) +
+             " bytes past the end of the file)";
+    if (name == "dataWindow" && type == "box2i" && size == 16) {
+      const std::int64_t w = std::int64_t(le32(b, value + 8)) - le32(b, value) + 1;
+      const std::int64_t h = std::int64_t(le32(b, value + 12)) - le32(b, value + 4) + 1;
+      if (w <= 0 || h <= 0 || w > (1 << 24) || h > (1 << 24))
+        return "the OpenEXR data window is " + std::to_string(w) + "x" + std::to_string(h) + " pixels, not an image";
+    }
+    at = value + std::size_t(size);
+  }
+  return "the OpenEXR header is cut short";
+}
+}  // namespace
+
+std::string damage_of(const fs::path& path) {
   const std::string bytes = read_file(path);
   const auto starts = [&](std::string_view magic) { return bytes.compare(0, magic.size(), magic) == 0; };
   if (starts("\x89PNG\r\n\x1a\n")) {
@@ -100,12 +138,16 @@ std::string truncation_of(const fs::path& path) {
     const std::size_t sos = bytes.rfind("\xff\xda");
     if (sos == std::string::npos || bytes.find("\xff\xd9", sos) == std::string::npos)
       return "the JPEG file is cut short (no end-of-image marker after its last scan)";
+  } else if (starts("\x76\x2f\x31\x01")) {
+    return exr_header_damage(bytes);
   }
   return {};
 }
 
 Image read_image(const fs::path& path, bool linearize, double max_megapixels) {
   if (check_input_file(path, "an image") == 0) throw Error(Location{path.string()}, "empty file, not an image");
+  if (const std::string damage = damage_of(path); !damage.empty())
+    throw Error(Location{path.string()}, damage + "; copy or export the image again");
   // Alpha comes back as stored (see write_image): no premultiplication on read.
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
@@ -128,8 +170,6 @@ Image read_image(const fs::path& path, bool linearize, double max_megapixels) {
       << "-megapixel limit of image inputs; downscale it first";
     throw Error(Location{path.string()}, m.str());
   }
-  if (const std::string cut = truncation_of(path); !cut.empty())
-    throw Error(Location{path.string()}, cut + "; copy or export the image again");
   Image img(spec.width, spec.height, spec.nchannels);
   if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data())) {
     std::string why = in->geterror();

@@ -24,7 +24,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     out.write(reinterpret_cast<const char*>(data + 1), std::streamsize(size - 1));
   }
   plumage::fuzz::expect_parse_or_error([&] {
-    (void)plumage::truncation_of(file);
+    (void)plumage::damage_of(file);
     // A small limit keeps each run fast; the check itself is what is fuzzed.
     const plumage::Image img = plumage::read_image(file, true, 4.0);
     plumage::fuzz::check(img.width > 0 && img.height > 0 && img.channels > 0, "an image without pixels was returned");

@@ -91,7 +91,7 @@ Photo load_photo(const fs::path& path, double max_megapixels, double refuse_mega
       << " MP memory guard; downscale it first (e.g. to 16 MP)";
     throw Error(where, m.str());
   }
-  if (const std::string cut = truncation_of(path); !cut.empty())
+  if (const std::string cut = damage_of(path); !cut.empty())
     throw Error(where, cut + "; copy or export the photo again");
   cv::Mat raw;
   {

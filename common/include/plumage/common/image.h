@@ -38,11 +38,13 @@ void write_image(FileBatch& batch, const std::filesystem::path& path, const Imag
 // Neither function premultiplies or un-premultiplies alpha: what is written is
 // what is read back (PNG stores straight alpha, so pass straight alpha for PNG).
 
-// Why a PNG or JPEG file is cut short, or "" when its end is whole (other
+// Why a PNG, JPEG or OpenEXR file is damaged, or "" when it looks whole (other
 // formats: ""): a PNG without its IEND chunk, a JPEG without the end-of-image
-// marker after its last scan. Decoders would return a partly grey image, and
-// print the library's own warning, instead of failing.
-std::string truncation_of(const std::filesystem::path& path);
+// marker after its last scan (decoders would return a partly grey image and
+// print their own warning), an EXR header whose attribute sizes run past the
+// end of the file or whose data window is absurd (OpenEXR would allocate that
+// much while opening it, before any size check of ours).
+std::string damage_of(const std::filesystem::path& path);
 
 // The largest image read_image decodes: 128 megapixels (a 16384x8192 environment
 // map). Its size is read from the header first, so a larger one is refused before
