@@ -15,7 +15,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 build=${BUILD_DIR:-build-fuzz}
 jobs=${JOBS:-$(nproc)}
-default_targets="fcurves feather_params image"
+default_targets="fcurves feather_params image argv"
 if [[ -f generator/include/plumage/generator/analysis/layout.h ]]; then
   default_targets+=" layout"
 else

@@ -40,6 +40,7 @@ namespace {
 struct Case {
   std::string args;  // after `plumage -q`; {d} is the shared input folder, {o} the case's own folder
   int rc;            // the documented exit status
+  std::string mention = {};  // the error line must contain this ({d} replaced), when given
 };
 
 // Outputs every case folder holds before its run: a failed run must leave them as they are.
@@ -212,6 +213,10 @@ class HostileCli : public ::testing::Test {
     const std::string where = "`plumage -q " + args + "`: ";
     if (r.rc != c.rc) problem << where << "exit " << r.rc << ", expected " << c.rc << "; stderr: " << r.err << "\n";
     const auto after = snapshot(out);
+    const std::string mention = replace_all(c.mention, "{d}", in_.string());
+    if (!mention.empty() && r.err.find(mention) == std::string::npos)
+      problem << where << "the error does not name the culprit '" << mention << "': " << r.err << "\n";
+    if (c.rc != 0 && r.err.size() > 400) problem << where << "the error line is " << r.err.size() << " characters\n";
     if (c.rc != 0) {
       const bool one_line = !r.err.empty() && r.err.back() == '\n' && r.err.find('\n') == r.err.size() - 1;
       if (!one_line || r.err.rfind("plumage: error: ", 0) != 0)
@@ -495,6 +500,31 @@ TEST_F(HostileCli, OutputsAllOrNone) {
     cases.push_back({"generate --layout {d}/layout.json -o {o}/nodir/out.fcurves", 1});
   }
   run_cases("outputs", cases);
+}
+
+// The error names the real culprit, not a symptom further down the line.
+TEST_F(HostileCli, MessagesNameTheRealCulprit) {
+  const std::vector<Case> cases = {
+      {"render {d}/far.fcurves --resolution 8x8 --spp 1 -o {o}/out.png", 1, "bounding box"},
+      {kRender + " --fov 1e-30", 2, "--fov: '1e-30' is outside [0.01, 179]"},
+      {kRender + " --margin nan", 2, "--margin: 'nan' is not a finite number"},
+      {kRender + " --exposure 1e308", 2, "--exposure: '1e308' is outside [-64, 64]"},
+      {"analyze {d}/photo.png -o {o}/out.json --mm-per-px 0", 2, "--mm-per-px: '0' is outside [0.0001, 1000]"},
+      {"analyze {d}/trunc.jpg -o {o}/out.json", 1, "the JPEG file is cut short"},
+      {"analyze {d}/trunc.png -o {o}/out.json", 1, "the PNG file is cut short"},
+      {kRender + " --seed -1", 2, "--seed: '-1' is negative"},
+      {kRender + " --shading Hair", 2, "--shading: 'Hair' is not one of: hair, substructure, explicit"},
+      {kRender + " --resolution 65536x65536", 2, "4294.967296 megapixels; the limit is 16384 pixels a side and 64 megapixels"},
+      {"render {d}/many_barbules.fcurves --shading explicit --resolution 8x8 --spp 1 -o {o}/out.png", 1,
+       "above its 8 GiB ceiling; lower the barbule count (--barbules)"},
+      {"render {d}/tex_huge.fcurves --resolution 8x8 --spp 1 -o {o}/out.png", 1,
+       "20000x20000x3 (400 megapixels), above the 128-megapixel limit"},
+      {kRender + " --env /dev/zero", 1, "/dev/zero: is not a regular file"},
+      {kCompare + " --photo {d}/fifo.png", 1, "{d}/fifo.png: is not a regular file"},
+      {kRender + " --env {d}/zero.png", 1, "Invalid IHDR data"},  // libpng's words, inside the one line
+      {"generate --preset rock-dove-wing -o {o}/out.fcurves --preview {o}/nodir/p.png", 1, "does not exist"},
+  };
+  run_cases("messages", cases);
 }
 
 // Valid but unusual runs succeed and write finite images.
