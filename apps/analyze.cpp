@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "command.h"
+#include "option_checks.h"
 
 namespace {
 
@@ -36,19 +37,19 @@ const plumage::cli::Registration reg{
       sub.add_option("--overlay", a->overlay,
                      "Overlay image to write (PNG) showing what was found");
       sub.add_option("--mm-per-px", a->mm_per_px, "Scale of the photo in millimetres per pixel")
-          ->check(CLI::PositiveNumber);
+          ->check(plumage::cli::in_range(1e-4, 1e3));
       sub.add_option(
              "--grid-mm", a->grid_mm,
              "Spacing of the grid lines in the photo, mm (default 10; Feather Atlas sheets: 20)")
-          ->check(CLI::PositiveNumber);
+          ->check(plumage::cli::in_range(0.01, 1e4));
       sub.add_option("--feather", a->feather,
                      "Report only feather K (1-based, left to right as on the overlay)")
-          ->check(CLI::PositiveNumber);
+          ->check(plumage::cli::in_range(1, 1e6));
       sub.add_flag("--allow-border", a->allow_border,
                    "Analyse feathers that touch the image border (else they are skipped with a warning)");
       sub.add_option("--max-megapixels", a->max_mp,
                      "Analyse larger photos downscaled to this size (default 16)")
-          ->check(CLI::PositiveNumber);
+          ->check(plumage::cli::in_range(0.01, 400));
       return [a]() {
         plumage::AnalyzeOptions opt;
         if (a->mm_per_px > 0) opt.mm_per_px = a->mm_per_px;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "command.h"
+#include "option_checks.h"
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
@@ -109,8 +110,10 @@ int run_bench(const Options& o) {
   const DomeRig rig = read_dome_rig(o.rig);
 
   const std::vector<LadderPoint> points = run_ladder(feather, rig, view, spec);
-  write_file_atomic(o.csv, ladder_csv(points));
-  write_image(o.plot, plot_ladder(points));
+  FileBatch outputs;  // the table and its plot: both or neither
+  outputs.stage_text(o.csv, ladder_csv(points));
+  write_image(outputs, o.plot, plot_ladder(points));
+  outputs.commit();
   if (!global_options().quiet) {
     std::cout << ladder_csv(points);
     for (ShadingMode m : spec.modes)
@@ -146,25 +149,28 @@ const Registration kBench{
       sub.add_option("--preset-seed", o->preset_seed, "Generator seed for the preset")->capture_default_str();
       sub.add_option("--csv", o->csv, "CSV output")->capture_default_str();
       sub.add_option("--plot", o->plot, "Plot output (.png)")->capture_default_str();
-      sub.add_option("--resolution", o->resolution, "Image size WIDTHxHEIGHT")->capture_default_str();
+      sub.add_option("--resolution", o->resolution, "Image size WIDTHxHEIGHT")->capture_default_str()->check(cli::resolution());
       sub.add_option("--spp", o->spp, "Ladder of sample counts, comma separated")->capture_default_str();
       sub.add_option("--modes", o->modes, "Shading modes, comma separated")->capture_default_str();
-      sub.add_option("--reference-spp", o->reference_spp, "Samples per pixel of the reference (>= 4x the top rung)")->capture_default_str();
+      sub.add_option("--reference-spp", o->reference_spp, "Samples per pixel of the reference (>= 4x the top rung)")->capture_default_str()->check(in_range(1, kMaxSpp));
       sub.add_option("--seed", o->seed, "Seed of the ladder")->capture_default_str();
       sub.add_option("--reference-seed", o->reference_seed, "Seed of the reference (must differ from --seed)")->capture_default_str();
-      sub.add_option("--repeats", o->repeats, "Renders per rung; the fastest time counts")->capture_default_str();
-      sub.add_option("--max-depth", o->max_depth, "Maximum scattering events per path")->capture_default_str();
+      sub.add_option("--repeats", o->repeats, "Renders per rung; the fastest time counts")->capture_default_str()->check(in_range(1, 1000));
+      sub.add_option("--max-depth", o->max_depth, "Maximum scattering events per path")->capture_default_str()->check(in_range(0, 1024));
       sub.add_option("--lights", o->lights, "Dome LEDs that are on")->capture_default_str();
       sub.add_option("--rig", o->rig, "Light rig JSON file")->capture_default_str();
       sub.add_option("--light-pick", o->light_pick, "Next-event estimation's light choice: uniform, estimate or all")
-          ->capture_default_str();
+          ->capture_default_str()
+          ->check(one_of({"estimate", "uniform", "all"}));
       sub.add_option("--allocation", o->allocation, "Samples over pixels: variance or uniform (docs/skip-work.md)")
-          ->capture_default_str();
-      sub.add_option("--backdrop", o->backdrop, "Card under the feather: white, black or none")->capture_default_str();
-      sub.add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
+          ->capture_default_str()
+          ->check(one_of({"variance", "uniform"}));
+      sub.add_option("--backdrop", o->backdrop, "Card under the feather: white, black or none")->capture_default_str()->check(one_of({"white", "black", "none"}));
+      sub.add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str()->check(in_range(0, kMaxThreads));
       sub.add_option("--max-slope", o->max_slope, "Fail when a mode's upper-half slope is above this")->capture_default_str();
       sub.add_option("--reference-mode", o->reference_mode,
-                     "Accuracy study: one reference in this mode (e.g. explicit) for every mode; no slope check");
+                     "Accuracy study: one reference in this mode (e.g. explicit) for every mode; no slope check")
+          ->check(one_of({"hair", "substructure", "explicit"}));
       sub.add_option("--zoom", o->zoom, "X,Y,H: top-down orthographic view H mm high centred on (X, Y) mm");
       return [o] { return run_bench(*o); };
     }};

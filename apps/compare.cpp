@@ -12,6 +12,7 @@
 #include "command.h"
 #include "substructure_options.h"
 #include "view_options.h"
+#include "plumage/common/atomic_file.h"
 #include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
@@ -63,9 +64,10 @@ int run_compare(const Options& o) {
     if (!global_options().quiet) std::cerr << "wrote " << o.output << "\n";
     return 0;
   }
-  if (o.columns < 1) throw Error("--columns must be at least 1");
   const std::vector<int> leds = parse_light_selection(view.lights, int(rig.leds.size()));
   if (leds.empty()) throw Error("--light-sequence with --lights none: no LED to switch on");
+  FileBatch outputs;  // one sheet per shading mode: both or neither
+  std::vector<std::filesystem::path> written;
   for (const auto& [scene, name] : modes) {
     std::vector<Panel> tiles;
     for (int led : leds) {
@@ -74,9 +76,12 @@ int run_compare(const Options& o) {
       tiles.push_back({render_view(*scene, rig, one), "LED " + std::to_string(led + 1)});
     }
     const std::filesystem::path out = with_suffix(o.output, std::string("_") + name);
-    write_image(out, contact_sheet(tiles, o.columns, std::string(name) + ": one LED at a time"));
-    if (!global_options().quiet) std::cerr << "wrote " << out.string() << "\n";
+    write_image(outputs, out, contact_sheet(tiles, o.columns, std::string(name) + ": one LED at a time"));
+    written.push_back(out);
   }
+  outputs.commit();
+  if (!global_options().quiet)
+    for (const auto& out : written) std::cerr << "wrote " << out.string() << "\n";
   return 0;
 }
 
@@ -97,7 +102,7 @@ const Registration kCompare{
       o->view.add_to(sub, "Size of one panel WIDTHxHEIGHT",
                      "Dome LEDs that are on (with --light-sequence: the LEDs to step through)");
       sub.add_flag("--light-sequence", o->light_sequence, "One LED at a time: a labelled contact sheet per shading mode");
-      sub.add_option("--columns", o->columns, "Contact sheet tiles per row")->capture_default_str();
+      sub.add_option("--columns", o->columns, "Contact sheet tiles per row")->capture_default_str()->check(in_range(1, 1000));
       o->substructure.add_to(sub);
       return [o] { return run_compare(*o); };
     }};

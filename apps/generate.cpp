@@ -5,6 +5,8 @@
 #include <nlohmann/json.hpp>
 
 #include "command.h"
+#include "option_checks.h"
+#include "plumage/common/atomic_file.h"
 #include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
@@ -41,18 +43,14 @@ int run_generate_from_layout(const GenerateArgs& a) {
   const std::filesystem::path out_dir = std::filesystem::path(a.output).parent_path();
   // The renderable albedo (mask filled) goes next to the curve file: NAME.albedo.png.
   const std::filesystem::path texture = std::filesystem::path(a.output).replace_extension(".albedo.png");
+  FileBatch outputs;  // the curves, their albedo texture and the preview: all or none
   const Feather feather =
       layout_to_feather_with_albedo(f, a.seed, std::filesystem::path(a.layout).parent_path(),
-                                    out_dir.empty() ? "." : out_dir, texture, a.layout, &warnings);
+                                    out_dir.empty() ? "." : out_dir, texture, a.layout, &warnings, &outputs);
   validate_feather(feather);
-  try {
-    write_fcurves(a.output, feather);
-  } catch (...) {
-    std::error_code ec;
-    if (!feather.albedo.texture.empty()) std::filesystem::remove(texture, ec);
-    throw;
-  }
-  if (!a.preview.empty()) write_image(a.preview, render_preview(feather, PreviewOptions{a.preview_size, true}));
+  write_fcurves(outputs, a.output, feather);
+  if (!a.preview.empty()) write_image(outputs, a.preview, render_preview(feather, PreviewOptions{a.preview_size, true}));
+  outputs.commit();
   for (const auto& w : warnings) std::cerr << "warning: " << a.layout << ": feather " << f.id << ": " << w << "\n";
   if (!global_options().quiet) {
     std::cout << "wrote " << a.output << ": feather " << f.id << " of " << a.layout << " (seed " << a.seed
@@ -88,8 +86,10 @@ int run_generate(const GenerateArgs& a) {
   const std::string source = a.preset.empty() ? "params:" + a.params : "preset:" + a.preset;
   const Feather feather = build_feather(params, a.seed, source);
   validate_feather(feather);
-  write_fcurves(a.output, feather);
-  if (!a.preview.empty()) write_image(a.preview, render_preview(feather, PreviewOptions{a.preview_size, true}));
+  FileBatch outputs;  // the curves and the preview: both or neither
+  write_fcurves(outputs, a.output, feather);
+  if (!a.preview.empty()) write_image(outputs, a.preview, render_preview(feather, PreviewOptions{a.preview_size, true}));
+  outputs.commit();
 
   if (!global_options().quiet) {
     std::cout << "wrote " << a.output << ": " << params.name << " (seed " << a.seed << "), 1 shaft + "
@@ -117,14 +117,14 @@ const Registration reg{
       auto* params = sub.add_option("--params", a->params, "Feather parameters JSON file (docs/generator.md)");
       auto* layout = sub.add_option("--layout", a->layout, "Analysis layout.json from `plumage analyze` (docs/layout-format.md)");
       sub.add_option("--feather", a->feather, "With --layout: which feather (its id, F<id> on the overlay; default the first)")
-          ->check(CLI::PositiveNumber);
+          ->check(in_range(1, 1e6));
       preset->excludes(params)->excludes(layout);
       params->excludes(layout);
       sub.add_option("--seed", a->seed, "Random seed: same seed, same feather (default 1)");
       sub.add_option("-o,--output", a->output, "Output .fcurves file (written atomically)");
       sub.add_option("--preview", a->preview, "Also write a top-view image of the curves (.png, .jpg, .exr)");
       sub.add_option("--preview-size", a->preview_size, "Preview size in pixels along the longer side (default 1024)")
-          ->check(CLI::Range(16, 16384));
+          ->check(in_range(16, 16384));
       sub.add_flag("--list-presets", a->list_presets, "List the species presets and exit");
       sub.add_flag("--print-params", a->print_params, "Print the resolved parameters as JSON");
       return [a] { return run_generate(*a); };

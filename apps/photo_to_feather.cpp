@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.h"
+#include "option_checks.h"
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
@@ -249,17 +250,18 @@ const Registration kPhotoToFeather{
       sub.add_option("photo", o->photo, "Photograph of a feather (or a sheet of feathers)")->required();
       sub.add_option("-o,--output", o->outdir, "Output folder (created when missing)")->required();
       sub.add_option("--feather", o->feather, "On a sheet: which feather (F<id> on the overlay; default the first)")
-          ->check(CLI::PositiveNumber);
+          ->check(in_range(1, 1e6));
       sub.add_option("--mm-per-px", o->mm_per_px, "Scale of the photo; default: from a grid, else 0.1")
-          ->check(CLI::PositiveNumber);
+          ->check(in_range(1e-4, 1e3));
       sub.add_option("--grid-mm", o->grid_mm, "Spacing of a grid's lines in the photo (mm)")->capture_default_str()
-          ->check(CLI::PositiveNumber);
-      sub.add_option("--spp", o->spp, "Samples per pixel of the renders")->capture_default_str();
+          ->check(in_range(0.01, 1e4));
+      sub.add_option("--spp", o->spp, "Samples per pixel of the renders")->capture_default_str()->check(in_range(1, kMaxSpp));
       sub.add_option("--height", o->height, "Height of each comparison panel in pixels (width follows the photo)")
-          ->capture_default_str();
+          ->capture_default_str()
+          ->check(in_range(16, 4096));
       sub.add_option("--seed", o->seed, "Seed of the generator and the renderer")->capture_default_str();
       sub.add_option("--rig", o->rig, "Light rig JSON file")->capture_default_str();
-      sub.add_option("--threads", o->threads, "Render threads (0 = all cores)")->capture_default_str();
+      sub.add_option("--threads", o->threads, "Render threads (0 = all cores)")->capture_default_str()->check(in_range(0, kMaxThreads));
       return [o] { return run_photo_to_feather(*o); };
     }};
 

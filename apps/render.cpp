@@ -14,6 +14,7 @@
 #include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
 #include "plumage/common/stats.h"
+#include "plumage/renderer/explicit_geometry.h"
 #include "plumage/renderer/feather_render.h"
 #include "plumage/renderer/structure_aov.h"
 
@@ -81,7 +82,6 @@ int run_render(const Options& o) {
   const std::string ext = std::filesystem::path(o.output).extension().string();
   if (ext != ".exr" && ext != ".png" && ext != ".hdr" && ext != ".tif" && ext != ".jpg")
     throw Error("-o " + o.output + ": the extension picks the format; use .exr (linear) or .png (sRGB)");
-  if (!o.aov.empty() && o.aov != "structure") throw Error("--aov '" + o.aov + "': the only AOV is 'structure'");
   Feather feather = read_fcurves(o.input);
   o.substructure.apply(feather);
   const auto t_read = clock::now();
@@ -91,6 +91,7 @@ int run_render(const Options& o) {
 
   SceneOptions so = o.view.scene_options(view, rig);
   so.mode = parse_shading_mode(o.shading);
+  if (so.mode == ShadingMode::Explicit) check_explicit_fits(feather);
   const Scene scene(feather, so);
   const auto t_build = clock::now();
 
@@ -128,23 +129,31 @@ const Registration kRender{
           "See docs/rendering.md.");
       sub.add_option("input", o->input, "Feather curve file (.fcurves)")->required();
       sub.add_option("-o,--output", o->output, "Output image: .exr (linear float) or .png (sRGB 8-bit)")->required();
-      sub.add_option("--shading", o->shading, "Barb shading: hair (fibres, production practice), substructure (Baron et al. 2021; docs/substructure.md) or explicit (rami and barbules as real curves: the slow reference)")->capture_default_str();
-      sub.add_option("--aov", o->aov, "Write an AOV instead of the beauty image: 'structure' colours ramus, distal and proximal barbules and gaps (needs --shading substructure or explicit)");
+      sub.add_option("--shading", o->shading, "Barb shading: hair (fibres, production practice), substructure (Baron et al. 2021; docs/substructure.md) or explicit (rami and barbules as real curves: the slow reference)")
+          ->capture_default_str()
+          ->check(one_of({"hair", "substructure", "explicit"}));
+      sub.add_option("--aov", o->aov, "Write an AOV instead of the beauty image: 'structure' colours ramus, distal and proximal barbules and gaps (needs --shading substructure or explicit)")
+          ->check(one_of({"structure"}));
       o->substructure.add_to(sub);
       o->view.add_to(sub, "Image size WIDTHxHEIGHT",
                      "Dome LEDs that are on: all, none, or numbers 1..25 (e.g. 1,5,12 or 2-9)");
       sub.add_option("--env", o->env, "Environment: a grey value, R,G,B, or a lat-long .exr/.hdr image (+Z is up)");
-      sub.add_option("--env-scale", o->env_scale, "Multiplier on the environment radiance")->capture_default_str();
+      sub.add_option("--env-scale", o->env_scale, "Multiplier on the environment radiance")->capture_default_str()->check(in_range(0, 1e6));
       sub.add_option("--directional", o->directional, "Directional light DX,DY,DZ,E or DX,DY,DZ,R,G,B (toward the light; irradiance); repeatable")
           ->allow_extra_args(false)
+          ->check(number_list({4, 6}))
           ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-      sub.add_option("--sampler", o->sampler, "sobol (Owen-scrambled, Burley 2020) or independent")->capture_default_str();
+      sub.add_option("--sampler", o->sampler, "sobol (Owen-scrambled, Burley 2020) or independent")
+          ->capture_default_str()
+          ->check(one_of({"sobol", "independent"}));
       sub.add_option("--beta-m", o->hair.beta_m, "Hair longitudinal roughness (0,1]")->capture_default_str();
       sub.add_option("--beta-n", o->hair.beta_n, "Hair azimuthal roughness (0,1]")->capture_default_str();
       sub.add_option("--alpha", o->hair.alpha_deg, "Cuticle tilt in degrees")->capture_default_str();
       sub.add_option("--eta", o->hair.eta, "Index of refraction of keratin")->capture_default_str();
-      sub.add_option("--melanin", o->melanin, "Absorption from EUMELANIN[,PHEOMELANIN] instead of the feather's albedo");
-      sub.add_option("--sigma-a", o->sigma_a, "Absorption R,G,B given directly (per unit radius)");
+      sub.add_option("--melanin", o->melanin, "Absorption from EUMELANIN[,PHEOMELANIN] instead of the feather's albedo")
+          ->check(number_list({1, 2}, 0));
+      sub.add_option("--sigma-a", o->sigma_a, "Absorption R,G,B given directly (per unit radius)")
+          ->check(number_list({3}, 0));
       return [o] { return run_render(*o); };
     }};
 

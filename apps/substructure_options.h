@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "option_checks.h"
 #include "plumage/common/feather.h"
 
 namespace plumage::cli {
@@ -17,19 +18,19 @@ struct SubstructureOverrides {
 
   void add_to(CLI::App& app) {
     app.add_option("--barbules", barbules, "Substructure: barbules per side of each barb, N (both vanes)")
-        ->check(in_range([](SubstructureParams& p, double v) { p.barbules_per_side = int(v); }));
+        ->check(library_range([](SubstructureParams& p, double v) { p.barbules_per_side = int(v); }));
     app.add_option("--barbule-elevation", elevation_deg, "Substructure: barbule angle from the barb in the vane, theta_b (degrees, 1..90)")
-        ->check(in_range([](SubstructureParams& p, double v) { p.elevation_deg = float(v); }));
+        ->check(library_range([](SubstructureParams& p, double v) { p.elevation_deg = float(v); }));
     app.add_option("--barbule-azimuth", azimuth_deg, "Substructure: barbule lift out of the vane, phi_b (degrees, -90..90 exclusive)")
-        ->check(in_range([](SubstructureParams& p, double v) { p.azimuth_deg = float(v); }));
+        ->check(library_range([](SubstructureParams& p, double v) { p.azimuth_deg = float(v); }));
     app.add_option("--ramus-radius", ramus_radius, "Substructure: ramus radius r_r (mm)")
-        ->check(in_range([](SubstructureParams& p, double v) { p.ramus_radius = float(v); }));
+        ->check(library_range([](SubstructureParams& p, double v) { p.ramus_radius = float(v); }));
     app.add_option("--barbule-radius", barbule_radius, "Substructure: barbule radius r_b (mm)")
-        ->check(in_range([](SubstructureParams& p, double v) { p.barbule_radius = float(v); }));
+        ->check(library_range([](SubstructureParams& p, double v) { p.barbule_radius = float(v); }));
     app.add_option("--hooked-fraction", hooked_fraction, "Substructure: hooked fraction of a distal barbule (0..1)")
-        ->check(in_range([](SubstructureParams& p, double v) { p.hooked_fraction = float(v); }));
+        ->check(library_range([](SubstructureParams& p, double v) { p.hooked_fraction = float(v); }));
     app.add_option("--ribbon-width", ribbon_width, "Substructure: barb ribbon width W (mm)")
-        ->check(in_range([](SubstructureParams& p, double v) { p.ribbon_width = float(v); }));
+        ->check(library_range([](SubstructureParams& p, double v) { p.ribbon_width = float(v); }));
   }
 
   // Each flag's value alone is checked with the library's ranges
@@ -37,7 +38,7 @@ struct SubstructureOverrides {
   // what depends on two values or on the curve file (the ramus inside the
   // ribbon) is checked where it is used, and named by its setting.
   template <class Set>
-  static CLI::Validator in_range(Set set) {
+  static CLI::Validator library_range(Set set) {
     return CLI::Validator(
         [set](std::string& text) -> std::string {
           double v = 0;

@@ -639,6 +639,10 @@ void write_fcurves(const std::filesystem::path& path, const Feather& feather) {
   write_file_atomic(path, format_fcurves(feather));
 }
 
+void write_fcurves(FileBatch& batch, const std::filesystem::path& path, const Feather& feather) {
+  batch.stage_text(path, format_fcurves(feather));
+}
+
 Feather parse_fcurves(std::string_view text, const std::string& filename) {
   Feather f = Reader(text, filename).parse();
   ++files_read;

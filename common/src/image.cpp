@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <memory>
+#include <sstream>
 
 #include <OpenImageIO/imageio.h>
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
+#include "plumage/common/stderr_capture.h"
 
 namespace plumage {
 namespace fs = std::filesystem;
@@ -42,58 +45,137 @@ std::string lower_ext(const fs::path& p) {
   std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
   return e;
 }
-}  // namespace
 
-void write_image(const fs::path& path, const Image& img) {
+// Encodes `img` into `file` (a temporary name); errors name `path`, the target.
+void encode_image(const fs::path& file, const fs::path& path, const Image& img) {
   if (img.width <= 0 || img.height <= 0 || img.channels <= 0 ||
       img.pixels.size() != std::size_t(img.width) * img.height * img.channels)
     throw Error(Location{path.string()}, "refusing to write an empty or inconsistent image");
   const std::string ext = lower_ext(path);
   const bool is_float = ext == ".exr" || ext == ".hdr";
-  write_via_temp(path, [&](const fs::path& tmp) {
-    auto out = OIIO::ImageOutput::create(tmp.string());
-    if (!out) throw Error(Location{path.string()}, "no image writer for extension '" + ext + "': " + OIIO::geterror());
-    OIIO::ImageSpec spec(img.width, img.height, img.channels, is_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-    if (ext == ".exr") spec.attribute("compression", "zip");
-    // Pixels go to the file as given: without this OIIO divides colour by alpha
-    // for PNG, and does so after our sRGB encoding.
-    spec.attribute("oiio:UnassociatedAlpha", 1);
-    if (!out->open(tmp.string(), spec)) throw Error(Location{path.string()}, "cannot open for writing: " + out->geterror());
-    bool ok;
-    if (is_float) {
-      ok = out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
-    } else {
-      std::vector<unsigned char> bytes(img.pixels.size());
-      const int alpha = img.channels == 4 || img.channels == 2 ? img.channels - 1 : -1;
-      for (std::size_t i = 0; i < img.pixels.size(); ++i) {
-        float v = img.pixels[i];
-        if (int(i % img.channels) != alpha) v = linear_to_srgb(v);
-        bytes[i] = static_cast<unsigned char>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
-      }
-      ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+  auto out = OIIO::ImageOutput::create(file.string());
+  if (!out) throw Error(Location{path.string()}, "no image writer for extension '" + ext + "': " + OIIO::geterror());
+  OIIO::ImageSpec spec(img.width, img.height, img.channels, is_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  if (ext == ".exr") spec.attribute("compression", "zip");
+  // Pixels go to the file as given: without this OIIO divides colour by alpha
+  // for PNG, and does so after our sRGB encoding.
+  spec.attribute("oiio:UnassociatedAlpha", 1);
+  if (!out->open(file.string(), spec)) throw Error(Location{path.string()}, "cannot open for writing: " + out->geterror());
+  bool ok;
+  if (is_float) {
+    ok = out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
+  } else {
+    std::vector<unsigned char> bytes(img.pixels.size());
+    const int alpha = img.channels == 4 || img.channels == 2 ? img.channels - 1 : -1;
+    for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+      float v = img.pixels[i];
+      if (int(i % img.channels) != alpha) v = linear_to_srgb(v);
+      bytes[i] = static_cast<unsigned char>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
     }
-    if (!ok || !out->close()) throw Error(Location{path.string()}, "write failed: " + out->geterror());
-  });
+    ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+  }
+  if (!ok || !out->close()) throw Error(Location{path.string()}, "write failed: " + out->geterror());
+}
+}  // namespace
+
+void write_image(FileBatch& batch, const fs::path& path, const Image& img) {
+  batch.stage(path, [&](const fs::path& tmp) { encode_image(tmp, path, img); });
 }
 
-Image read_image(const fs::path& path, bool linearize) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw Error(Location{path.string()}, "no such file");
-  if (fs::is_directory(path, ec)) throw Error(Location{path.string()}, "is a directory, expected an image");
+void write_image(const fs::path& path, const Image& img) {
+  FileBatch batch;
+  write_image(batch, path, img);
+  batch.commit();
+}
+
+namespace {
+std::int32_t le32(const std::string& b, std::size_t at) {
+  std::uint32_t v = 0;
+  for (int k = 3; k >= 0; --k) v = (v << 8) | static_cast<unsigned char>(b[at + std::size_t(k)]);
+  return static_cast<std::int32_t>(v);
+}
+
+// OpenEXR's first header: attributes (name, type, int32 size, value) up to an
+// empty name. Every value must lie inside the file, and the data window
+// (box2i xMin, yMin, xMax, yMax) must be a sane rectangle.
+std::string exr_header_damage(const std::string& b) {
+  std::size_t at = 8;  // magic and version
+  for (int attributes = 0; attributes < 10000; ++attributes) {
+    const std::size_t name_end = b.find('\0', at);
+    if (name_end == std::string::npos) break;
+    if (name_end == at) return {};  // the header ends
+    const std::string name = b.substr(at, name_end - at);
+    const std::size_t type_end = b.find('\0', name_end + 1);
+    if (type_end == std::string::npos || type_end + 5 > b.size()) break;
+    const std::string type = b.substr(name_end + 1, type_end - name_end - 1);
+    const std::int32_t size = le32(b, type_end + 1);
+    const std::size_t value = type_end + 5;
+    if (size < 0 || value + std::size_t(size) > b.size())
+      return "the OpenEXR header is damaged (attribute '" + name + "' claims " + std::to_string(size) +
+             " bytes past the end of the file)";
+    if (name == "dataWindow" && type == "box2i" && size == 16) {
+      const std::int64_t w = std::int64_t(le32(b, value + 8)) - le32(b, value) + 1;
+      const std::int64_t h = std::int64_t(le32(b, value + 12)) - le32(b, value + 4) + 1;
+      if (w <= 0 || h <= 0 || w > (1 << 24) || h > (1 << 24))
+        return "the OpenEXR data window is " + std::to_string(w) + "x" + std::to_string(h) + " pixels, not an image";
+    }
+    at = value + std::size_t(size);
+  }
+  return "the OpenEXR header is cut short";
+}
+}  // namespace
+
+std::string damage_of(const fs::path& path) {
+  const std::string bytes = read_file(path);
+  const auto starts = [&](std::string_view magic) { return bytes.compare(0, magic.size(), magic) == 0; };
+  if (starts("\x89PNG\r\n\x1a\n")) {
+    // The IEND chunk closes every PNG; a few bytes may trail it.
+    const std::size_t tail = bytes.size() > 4096 ? bytes.size() - 4096 : 0;
+    if (bytes.find("IEND", tail) == std::string::npos) return "the PNG file is cut short (no IEND chunk at its end)";
+  } else if (starts("\xff\xd8\xff")) {
+    // Entropy-coded data never holds an unstuffed 0xFF 0xD9, so after the last
+    // start-of-scan marker the only one is the end-of-image marker.
+    const std::size_t sos = bytes.rfind("\xff\xda");
+    if (sos == std::string::npos || bytes.find("\xff\xd9", sos) == std::string::npos)
+      return "the JPEG file is cut short (no end-of-image marker after its last scan)";
+  } else if (starts("\x76\x2f\x31\x01")) {
+    return exr_header_damage(bytes);
+  }
+  return {};
+}
+
+Image read_image(const fs::path& path, bool linearize, double max_megapixels) {
+  if (check_input_file(path, "an image") == 0) throw Error(Location{path.string()}, "empty file, not an image");
+  if (const std::string damage = damage_of(path); !damage.empty())
+    throw Error(Location{path.string()}, damage + "; copy or export the image again");
   // Alpha comes back as stored (see write_image): no premultiplication on read.
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
+  // The decoders' own stderr lines go into our error message, or nowhere.
+  StderrCapture decoder_messages;
   auto in = OIIO::ImageInput::open(path.string(), &config);
   if (!in) {
     std::string why = OIIO::geterror();
+    if (why.empty()) why = decoder_messages.text();
     throw Error(Location{path.string()}, "cannot read as an image" + (why.empty() ? std::string() : ": " + why));
   }
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw Error(Location{path.string()}, "image has no pixels");
+  const double megapixels = double(spec.width) * double(spec.height) / 1e6;
+  if (megapixels > max_megapixels || spec.nchannels > 64) {
+    std::ostringstream m;
+    m << "image is " << spec.width << "x" << spec.height << "x" << spec.nchannels << " ("
+      << std::lround(megapixels) << " megapixels), above the " << max_megapixels
+      << "-megapixel limit of image inputs; downscale it first";
+    throw Error(Location{path.string()}, m.str());
+  }
   Image img(spec.width, spec.height, spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
-    throw Error(Location{path.string()}, "cannot decode image: " + in->geterror());
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data())) {
+    std::string why = in->geterror();
+    if (why.empty()) why = decoder_messages.text();
+    throw Error(Location{path.string()}, "cannot decode image: " + why);
+  }
   const bool is_float = spec.format.basetype == OIIO::TypeDesc::FLOAT || spec.format.basetype == OIIO::TypeDesc::HALF ||
                         spec.format.basetype == OIIO::TypeDesc::DOUBLE;
   in->close();

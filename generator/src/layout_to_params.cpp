@@ -5,6 +5,7 @@
 #include <optional>
 #include <sstream>
 
+#include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
 #include "plumage/generator/builder.h"
 
@@ -465,12 +466,13 @@ Feather layout_to_feather_with_albedo(const FeatherLayout& layout, std::uint64_t
                                       const std::filesystem::path& albedo_dir,
                                       const std::filesystem::path& fcurves_dir,
                                       const std::filesystem::path& texture_path, const std::string& source,
-                                      std::vector<std::string>* warnings) {
+                                      std::vector<std::string>* warnings, FileBatch* outputs) {
   Feather feather = layout_to_feather(layout, seed, albedo_dir, fcurves_dir, source, warnings);
   if (feather.albedo.texture.empty()) return feather;
   glm::vec3 mean;
   const Image filled = albedo_for_render(read_image(albedo_dir / layout.albedo.file), &mean);
-  write_image(texture_path, filled);
+  if (outputs) write_image(*outputs, texture_path, filled);
+  else write_image(texture_path, filled);
   feather.albedo.color = mean;
   feather.albedo.texture = std::filesystem::absolute(texture_path)
                                .lexically_proximate(std::filesystem::absolute(fcurves_dir))

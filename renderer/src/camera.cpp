@@ -30,6 +30,18 @@ Camera::Camera(const CameraSpec& spec, int width, int height, const Bounds3f& fb
     const float dist = proj_ == Projection::Perspective ? 0.5f * need_h / tan_half : 2.0f * std::max({size.x, size.y, size.z});
     eye_ = glm::vec3(target.x, target.y, fb.hi.z + dist);
   }
+  // Name the real culprit before the view vectors turn into Inf or NaN below.
+  const auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  const auto text = [](const glm::vec3& v) {
+    return std::to_string(v.x) + "," + std::to_string(v.y) + "," + std::to_string(v.z);
+  };
+  if (!finite(fb.lo) || !finite(fb.hi) || !std::isfinite(need_h) || glm::length(size) > 1e18f)
+    throw Error("the feather's bounding box (" + text(fb.lo) + " to " + text(fb.hi) +
+                " mm) is too large to frame; check the curve file's coordinates");
+  if (!finite(target) || !finite(eye_) || !finite(target - eye_) || !std::isfinite(glm::length(target - eye_)))
+    throw Error(spec.position || spec.look_at
+                    ? "--camera-pos/--look-at are too far out to render from; give points within 1e18 mm"
+                    : "--fov " + std::to_string(spec.fov_deg) + " is too narrow to frame the feather from a finite distance");
   const glm::vec3 view = target - eye_;
   if (!(glm::length(view) > 0)) throw Error("--camera-pos and --look-at are the same point");
   fwd_ = glm::normalize(view);

@@ -9,6 +9,7 @@
 
 #include "plumage/common/bspline.h"
 #include "plumage/common/frame.h"
+#include "plumage/common/error.h"
 
 namespace plumage {
 namespace {
@@ -137,6 +138,17 @@ std::size_t explicit_curve_count(const Feather& feather) {
     n += 1 + (has_barbules(p) ? 2 * std::size_t(p.barbules_per_side) : 0);
   }
   return n;
+}
+
+void check_explicit_fits(const Feather& feather) {
+  const std::size_t curves = explicit_curve_count(feather);
+  if (curves <= kMaxExplicitBytes / kExplicitBytesPerCurve) return;
+  const double gib = double(curves) * double(kExplicitBytesPerCurve) / double(std::size_t(1) << 30);
+  throw Error("explicit mode would build " + std::to_string(curves) + " curves (barbules per side " +
+              std::to_string(feather.left.barbules_per_side) + " left, " +
+              std::to_string(feather.right.barbules_per_side) + " right), about " + std::to_string(std::lround(gib)) +
+              " GiB, above its " + std::to_string(kMaxExplicitBytes >> 30) +
+              " GiB ceiling; lower the barbule count (--barbules)");
 }
 
 }  // namespace plumage

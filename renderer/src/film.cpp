@@ -1,8 +1,11 @@
 #include "plumage/renderer/film.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <vector>
+
+#include "plumage/common/error.h"
 
 namespace plumage {
 
@@ -29,9 +32,12 @@ float border_luminance(const Image& img) {
 Film::Film(int width, int height) : image_(width, height, 3) {}
 
 Image Film::developed(float exposure) const {
-  Image out = image_;
   const float k = std::exp2(exposure);
-  for (float& v : out.pixels) v *= k;
+  if (!std::isfinite(k))
+    throw Error("exposure " + std::to_string(exposure) + " stops scales pixels by a factor a float cannot hold; "
+                "give a finite exposure in [-64, 64]");
+  Image out = image_;
+  for (float& v : out.pixels) v = std::isnan(v) ? 0.0f : std::clamp(v * k, -FLT_MAX, FLT_MAX);
   return out;
 }
 

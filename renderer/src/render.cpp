@@ -8,6 +8,7 @@
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/global_control.h>
+#include <tbb/info.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -154,7 +155,9 @@ Film render(const Camera& camera, const PathIntegrator& integrator, const Render
     progress.advance();
   };
 
-  tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
+  // More threads than cores buys nothing, and TBB would print a warning of its own.
+  tbb::task_arena arena(settings.threads > 0 ? std::min(settings.threads, tbb::info::default_concurrency())
+                                             : tbb::task_arena::automatic);
   auto pass = [&](bool first_pass) {
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1), [&](const tbb::blocked_range2d<int>& r) {

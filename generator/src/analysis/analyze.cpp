@@ -291,34 +291,13 @@ void write_analysis(PhotoAnalysis& a, const fs::path& layout_path, const fs::pat
     a.layout.feathers[i].albedo.file =
         stem + ".feather" + std::to_string(a.layout.feathers[i].id) + ".albedo.png";
 
-  // Everything goes to temporary names first and is renamed only when all of
-  // it was written, so a failure leaves no partial set of outputs behind.
-  std::mt19937_64 rng(std::random_device{}());
-  const std::string tag = ".tmp-" + std::to_string(rng() % 1000000000ull);
-  std::vector<std::pair<fs::path, fs::path>> staged;  // temp, final
-  auto stage = [&](const fs::path& final_path) {
-    const fs::path tmp = final_path.parent_path() /
-                         (final_path.stem().string() + tag + final_path.extension().string());
-    staged.emplace_back(tmp, final_path);
-    return tmp;
-  };
-  try {
-    for (std::size_t i = 0; i < a.layout.feathers.size(); ++i)
-      write_image(stage(dir / a.layout.feathers[i].albedo.file), a.albedo[i]);
-    if (!overlay_path.empty()) write_image(stage(overlay_path), a.overlay);
-    write_layout(stage(layout_path), a.layout);
-    for (const auto& [tmp, final_path] : staged) {
-      std::error_code ec;
-      fs::rename(tmp, final_path, ec);
-      if (ec) throw Error(Location{final_path.string()}, "cannot write: " + ec.message());
-    }
-  } catch (...) {
-    for (const auto& [tmp, final_path] : staged) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-    }
-    throw;
-  }
+  // All or nothing: a failure leaves no partial set of outputs behind.
+  FileBatch outputs;
+  for (std::size_t i = 0; i < a.layout.feathers.size(); ++i)
+    write_image(outputs, dir / a.layout.feathers[i].albedo.file, a.albedo[i]);
+  if (!overlay_path.empty()) write_image(outputs, overlay_path, a.overlay);
+  outputs.stage_text(layout_path, layout_to_json(a.layout));
+  outputs.commit();
 }
 
 }  // namespace plumage

@@ -6,7 +6,10 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
+#include "plumage/common/image.h"
+#include "plumage/common/stderr_capture.h"
 #include "steps.h"
 
 namespace plumage::analysis {
@@ -77,10 +80,7 @@ cv::Size peek_image_size(const fs::path& path) {
 
 Photo load_photo(const fs::path& path, double max_megapixels, double refuse_megapixels) {
   const Location where{path.string()};
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw Error(where, "no such file; check the photo's path");
-  if (fs::is_directory(path, ec)) throw Error(where, "is a directory, not a photo");
-  if (fs::file_size(path, ec) == 0)
+  if (check_input_file(path, "a photo") == 0)
     throw Error(where, "empty file, not an image; give a PNG or JPEG photo");
   const cv::Size header = peek_image_size(path);
   const double header_mp = double(header.width) * header.height / 1e6;
@@ -91,15 +91,21 @@ Photo load_photo(const fs::path& path, double max_megapixels, double refuse_mega
       << " MP memory guard; downscale it first (e.g. to 16 MP)";
     throw Error(where, m.str());
   }
+  if (const std::string cut = damage_of(path); !cut.empty())
+    throw Error(where, cut + "; copy or export the photo again");
   cv::Mat raw;
-  try {
-    raw = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception& e) {
-    throw Error(where, std::string("cannot decode image: ") + e.err);
+  {
+    StderrCapture decoder_messages;  // libpng/libjpeg lines go into the error, not on stderr
+    try {
+      raw = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+    } catch (const cv::Exception& e) {
+      throw Error(where, std::string("cannot decode image: ") + e.err);
+    }
+    const std::string why = decoder_messages.text();
+    if (raw.empty())
+      throw Error(where, "not an image OpenCV can read (or it is damaged" + (why.empty() ? "" : ": " + why) +
+                             "); give a PNG, JPEG or TIFF photo");
   }
-  if (raw.empty())
-    throw Error(where,
-                "not an image OpenCV can read (or it is damaged); give a PNG, JPEG or TIFF photo");
   if (double(raw.total()) / 1e6 > refuse_megapixels)
     throw Error(where, "image is above the memory guard of " + std::to_string(refuse_megapixels) +
                            " megapixels; downscale it first");

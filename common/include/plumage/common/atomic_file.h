@@ -1,24 +1,63 @@
 #pragma once
 // Atomic file writes: every writer in Plumage writes to a temporary file beside
 // the target and renames it into place, so a failure never leaves a damaged file.
+// A command with several outputs stages them all in one FileBatch and commits
+// them together: all of them are written, or none.
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace plumage {
+
+// Outputs written all or none. stage() writes one file under a temporary name
+// beside its target (if the writer throws, that temporary is removed); commit()
+// renames every staged file into place, and if one rename fails it puts back the
+// targets it had already replaced. A batch destroyed before commit() removes its
+// temporary files, so a failure anywhere leaves every target as it was.
+class FileBatch {
+ public:
+  FileBatch() = default;
+  FileBatch(const FileBatch&) = delete;
+  FileBatch& operator=(const FileBatch&) = delete;
+  ~FileBatch();
+
+  // Calls `write(tmp_path)` to produce `path`'s contents under a temporary name
+  // that keeps `path`'s extension (image writers choose the format by it).
+  // Throws plumage::Error naming the path when its directory is missing or the
+  // same path is staged twice.
+  void stage(const std::filesystem::path& path,
+             const std::function<void(const std::filesystem::path& tmp_path)>& write);
+  void stage_text(const std::filesystem::path& path, std::string_view contents);
+  void commit();
+
+ private:
+  struct Staged {
+    std::filesystem::path tmp, target;
+  };
+  std::vector<Staged> staged_;
+};
 
 // Writes `contents` to `path` atomically. Throws plumage::Error naming the path.
 void write_file_atomic(const std::filesystem::path& path, std::string_view contents);
 
-// Calls `write(tmp_path)` to produce the file under a temporary name in the
-// same directory, then renames it to `path`. If `write` throws, the temporary
-// file is removed and the exception propagates; `path` is untouched.
-// The temporary name keeps `path`'s extension (image writers choose the format by it).
+// A one-file FileBatch: writes `path` through a temporary file, then renames it.
 void write_via_temp(const std::filesystem::path& path,
                     const std::function<void(const std::filesystem::path& tmp_path)>& write);
 
-// Reads a whole file; throws plumage::Error naming the path if it cannot.
+// Checks that `path` names a regular file (links followed) and returns its size.
+// A directory, FIFO, socket or device is refused with plumage::Error naming the
+// path: a reader would hang on a FIFO or /dev/zero. `what` says what was
+// expected ("an image", "a curve file").
+std::uintmax_t check_input_file(const std::filesystem::path& path, const std::string& what);
+
+// The largest text input read_file accepts (curve files, parameters, layouts, rigs).
+inline constexpr std::uintmax_t kMaxTextFileBytes = std::uintmax_t(1) << 30;
+
+// Reads a whole regular file of at most kMaxTextFileBytes; throws
+// plumage::Error naming the path if it cannot.
 std::string read_file(const std::filesystem::path& path);
 
 }  // namespace plumage

@@ -11,6 +11,8 @@
 
 namespace plumage {
 
+class FileBatch;
+
 inline constexpr int kFcurvesVersion = 1;
 
 // Throws plumage::Error when the feather breaks a rule of the format (units not
@@ -22,6 +24,8 @@ void validate_feather(const Feather& feather);
 std::string format_fcurves(const Feather& feather);
 // Writes atomically.
 void write_fcurves(const std::filesystem::path& path, const Feather& feather);
+// The same, staged in `batch` (atomic_file.h) with a command's other outputs.
+void write_fcurves(FileBatch& batch, const std::filesystem::path& path, const Feather& feather);
 
 // Parses text; `filename` is used in error messages. Throws plumage::Error.
 Feather parse_fcurves(std::string_view text, const std::string& filename = "<memory>");

@@ -9,6 +9,8 @@
 
 namespace plumage {
 
+class FileBatch;
+
 struct Image {
   int width = 0, height = 0, channels = 0;
   std::vector<float> pixels;
@@ -30,13 +32,30 @@ float linear_to_srgb(float v);
 // .hdr (linear), anything else (.png, .jpg, .tif, ...) is 8-bit with the sRGB
 // transfer curve applied to colour channels (alpha stays linear), clamped to [0,1].
 void write_image(const std::filesystem::path& path, const Image& img);
+// The same, staged in `batch` (atomic_file.h) with a command's other outputs.
+void write_image(FileBatch& batch, const std::filesystem::path& path, const Image& img);
 
 // Neither function premultiplies or un-premultiplies alpha: what is written is
 // what is read back (PNG stores straight alpha, so pass straight alpha for PNG).
 
+// Why a PNG, JPEG or OpenEXR file is damaged, or "" when it looks whole (other
+// formats: ""): a PNG without its IEND chunk, a JPEG without the end-of-image
+// marker after its last scan (decoders would return a partly grey image and
+// print their own warning), an EXR header whose attribute sizes run past the
+// end of the file or whose data window is absurd (OpenEXR would allocate that
+// much while opening it, before any size check of ours).
+std::string damage_of(const std::filesystem::path& path);
+
+// The largest image read_image decodes: 128 megapixels (a 16384x8192 environment
+// map). Its size is read from the header first, so a larger one is refused before
+// any pixel memory is taken (up to 2 GiB of float pixels at 4 channels).
+inline constexpr double kMaxImageMegapixels = 128.0;
+
 // Reads any format OIIO knows. 8/16-bit integer files are taken to be sRGB and
 // converted to linear unless `linearize` is false; float files are returned as is.
-// Throws plumage::Error naming the file and the problem.
-Image read_image(const std::filesystem::path& path, bool linearize = true);
+// Only regular files are read (check_input_file); images above `max_megapixels`
+// are refused unread. Throws plumage::Error naming the file and the problem.
+Image read_image(const std::filesystem::path& path, bool linearize = true,
+                 double max_megapixels = kMaxImageMegapixels);
 
 }  // namespace plumage

@@ -16,6 +16,8 @@
 
 namespace plumage {
 
+class FileBatch;
+
 struct LayoutParams {
   FeatherParams params;
   // In-plane rotation (degrees, counter-clockwise about +Z) that brings the
@@ -56,13 +58,15 @@ Feather layout_to_feather(const FeatherLayout& layout, std::uint64_t seed, const
 // those get the mean colour under the mask (RGB result). `mean` receives it.
 Image albedo_for_render(const Image& analysis_albedo, glm::vec3* mean = nullptr);
 
-// layout_to_feather, then the filled albedo written as `texture_path` (atomically)
-// and referenced by the feather relative to `fcurves_dir`, its mean as the
-// feather's constant colour. What `generate --layout` and photo-to-feather use.
+// layout_to_feather, then the filled albedo written as `texture_path` (atomically,
+// or staged in `outputs` with the command's other files when given) and
+// referenced by the feather relative to `fcurves_dir`, its mean as the feather's
+// constant colour. What `generate --layout` and photo-to-feather use.
 Feather layout_to_feather_with_albedo(const FeatherLayout& layout, std::uint64_t seed,
                                       const std::filesystem::path& albedo_dir,
                                       const std::filesystem::path& fcurves_dir,
                                       const std::filesystem::path& texture_path, const std::string& source,
-                                      std::vector<std::string>* warnings = nullptr);
+                                      std::vector<std::string>* warnings = nullptr,
+                                      FileBatch* outputs = nullptr);
 
 }  // namespace plumage

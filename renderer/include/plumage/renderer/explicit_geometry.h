@@ -55,4 +55,14 @@ double add_explicit_barb(const Curve& barb, std::uint32_t barb_index, const Barb
 // building them: sum over barbs of 1 + 2N (N of the barb's vane; 0 when r_b is 0).
 std::size_t explicit_curve_count(const Feather& feather);
 
+// Explicit mode's memory ceiling: its curves (about kExplicitBytesPerCurve each,
+// control points, segment indices and Embree's BVH over them) must fit in 8 GiB.
+inline constexpr std::size_t kExplicitBytesPerCurve = 512;
+inline constexpr std::size_t kMaxExplicitBytes = std::size_t(8) << 30;
+
+// Throws plumage::Error naming the barbule count and the limit when explicit
+// mode's predicted memory (explicit_curve_count x kExplicitBytesPerCurve) is
+// above kMaxExplicitBytes; call it before building the scene.
+void check_explicit_fits(const Feather& feather);
+
 }  // namespace plumage

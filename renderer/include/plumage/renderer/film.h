@@ -20,7 +20,8 @@ class Film {
   void set(int x, int y, const glm::vec3& mean_radiance) { image_.set_rgb(x, y, mean_radiance); }
   int width() const { return image_.width; }
   int height() const { return image_.height; }
-  // The image scaled by 2^exposure.
+  // The image scaled by 2^exposure, each value kept within ±FLT_MAX so that no
+  // written image holds Inf. Throws plumage::Error when 2^exposure is not finite.
   Image developed(float exposure) const;
   void write(const std::filesystem::path& path, float exposure) const;
 

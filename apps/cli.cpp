@@ -1,0 +1,75 @@
+#include "cli.h"
+
+#include <algorithm>
+#include <iostream>
+#include <memory>
+
+#include "command.h"
+#include "option_checks.h"
+#include "plumage/common/error.h"
+#include "plumage/common/progress.h"
+#include "plumage/common/stats.h"
+
+namespace plumage::cli {
+
+std::vector<CommandSpec>& commands() {
+  static std::vector<CommandSpec> c;
+  return c;
+}
+
+namespace {
+GlobalOptions g_options;
+}
+const GlobalOptions& global_options() { return g_options; }
+
+int parse_command_line(int argc, const char* const* argv, std::function<int()>& run) {
+  CLI::App app{
+      "Plumage: model and render bird feathers from photos (Baron et al. 2021, "
+      "\"Microstructure-based appearance rendering for feathers\").\n"
+      "Pipeline: analyze (photo -> layout.json) -> generate (-> feather.fcurves) -> render.\n"
+      "Run `plumage COMMAND --help` for a command's options."};
+  app.set_version_flag("--version", std::string("plumage ") + PLUMAGE_VERSION);
+  app.require_subcommand(1);
+  app.fallthrough();
+  g_options = GlobalOptions{};
+  app.add_flag("-q,--quiet", g_options.quiet, "No progress bars");
+  app.add_flag("--stats", g_options.stats, "Print statistics counters at the end");
+
+  auto& specs = commands();
+  std::sort(specs.begin(), specs.end(), [](auto& a, auto& b) { return a.name < b.name; });
+  run = nullptr;
+  for (auto& spec : specs) {
+    CLI::App* sub = app.add_subcommand(spec.name, spec.description);
+    auto fn = std::make_shared<std::function<int()>>(spec.setup(*sub));
+    sub->callback([fn, &run] { run = *fn; });
+  }
+  check_option_types(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    std::cerr << "plumage: error: " << e.what() << " (see `plumage --help`)\n";
+    return 2;
+  }
+  return -1;
+}
+
+int run_command_line(int argc, const char* const* argv) {
+  std::function<int()> run;
+  if (const int rc = parse_command_line(argc, argv, run); rc >= 0) return rc;
+  ProgressBar::set_quiet(g_options.quiet);
+  try {
+    const int rc = run ? run() : 0;
+    if (g_options.stats) stats_print(std::cerr);
+    return rc;
+  } catch (const Error& e) {
+    std::cerr << "plumage: error: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "plumage: error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace plumage::cli
