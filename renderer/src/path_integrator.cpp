@@ -69,16 +69,17 @@ struct FibreScatter final : Scatter {
     return bcsdf.f_pdf(wo_local, wl, pdf) * bcsdf_cos(wl);
   }
   void f_cos(std::span<const glm::vec3> wi, std::span<glm::vec3> out) const override {
-    thread_local std::vector<glm::vec3> local;
-    local.resize(wi.size());
-    for (std::size_t k = 0; k < wi.size(); ++k) local[k] = ff.frame.to_local(wi[k]);
-    bcsdf.f_cos(wo_local, local, out);
+    bcsdf.f_cos(wo_local, to_local(wi), out);
   }
   void estimate_f_cos(std::span<const glm::vec3> wi, std::span<glm::vec3> out) const override {
+    bcsdf.f_cos_estimate(wo_local, to_local(wi), out);
+  }
+  // The directions in the fibre frame, in a per-thread buffer (Li is not re-entrant).
+  std::span<const glm::vec3> to_local(std::span<const glm::vec3> wi) const {
     thread_local std::vector<glm::vec3> local;
     local.resize(wi.size());
     for (std::size_t k = 0; k < wi.size(); ++k) local[k] = ff.frame.to_local(wi[k]);
-    bcsdf.f_cos_estimate(wo_local, local, out);
+    return local;
   }
   using Scatter::f_cos;
   bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const override {
@@ -117,15 +118,20 @@ constexpr float kEnvironmentResponse = 0.5f / kPi;
 // The pmf lives in per-thread buffers (Li is not re-entrant), so a path allocates nothing.
 class LightChoice {
  public:
-  // `picks`: how many lights one vertex samples (stratified over the pmf); the
-  // density MIS sees for light sampling is picks x the pmf.
-  LightChoice(std::size_t n, LightPick mode, int picks) : n_(n), mode_(mode), picks_(float(picks)) {
+  // `max_picks`: how many lights one vertex may sample (stratified over the pmf);
+  // the density MIS sees for light sampling is picks() x the pmf. More picks than
+  // lights would sample a light twice per vertex: no better than one sample of
+  // each (under a lone environment, measurably worse per CPU second).
+  LightChoice(std::size_t n, LightPick mode, int max_picks)
+      : n_(n), mode_(mode),
+        picks_(mode == LightPick::All ? 1 : int(std::min<std::size_t>(std::size_t(max_picks), std::max<std::size_t>(n, 1)))) {
     thread_local std::vector<float> pmf, weights;
     pmf_ = &pmf;
     weights_ = &weights;
   }
   // Weighs every light by lum(f_cos(wi) strength) at this vertex (LightPick::Estimate).
   void estimate(const LightSet& lights, const glm::vec3& p, const Scatter& bsdf) {
+    if (n_ <= 1) return;  // one light needs no weighing: it is chosen with probability 1 either way
     thread_local std::vector<LightProxy> proxies;
     thread_local std::vector<glm::vec3> dirs, response;
     proxies.resize(n_);
@@ -148,8 +154,9 @@ class LightChoice {
   }
   float prob(std::size_t i) const {
     if (mode_ == LightPick::All) return 1.0f;
-    return picks_ * (estimated_ ? (*pmf_)[i] : 1.0f / float(n_));
+    return float(picks_) * (estimated_ ? (*pmf_)[i] : 1.0f / float(n_));
   }
+  int picks() const { return picks_; }
   std::size_t choose(float u) const {
     if (estimated_) return pick_from_pmf(*pmf_, u);
     return std::min(std::size_t(u * float(n_)), n_ - 1);
@@ -158,7 +165,7 @@ class LightChoice {
  private:
   std::size_t n_;
   LightPick mode_;
-  float picks_;
+  int picks_;
   bool estimated_ = false;
   std::vector<float>*pmf_, *weights_;
 };
@@ -188,12 +195,7 @@ PathIntegrator::PathIntegrator(const Scene& scene, const LightSet& lights, const
 glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& counters) const {
   glm::vec3 L(0), beta(1);
   const std::size_t n_lights = lights_.count();
-  // More picks than lights would sample a light twice per vertex: no better than
-  // one sample of each (under a lone environment, measurably worse per CPU second).
-  const int picks = settings_.light_pick == LightPick::All
-                        ? 1
-                        : int(std::min<std::size_t>(std::size_t(settings_.light_picks), std::max<std::size_t>(n_lights, 1)));
-  LightChoice pick(n_lights, settings_.light_pick, picks);  // the selection pmf at the last vertex (MIS needs it on a light hit)
+  LightChoice pick(n_lights, settings_.light_pick, settings_.light_picks);  // the selection pmf at the last vertex (MIS needs it on a light hit)
   float prev_pdf = 0;      // pdf of the BCSDF sample that made `ray`
   bool from_camera = true; // no MIS for what the camera sees directly
   for (int depth = 0;; ++depth) {
@@ -242,8 +244,8 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
           L += beta * direct_light(scene_, lights_, hit, *bsdf, i, 1.0f, {u.y, u.z}, counters);
         }
       } else {
-        // One light needs no weighing: it is chosen with probability 1 either way.
-        if (settings_.light_pick == LightPick::Estimate && n_lights > 1) pick.estimate(lights_, hit.p, *bsdf);
+        if (settings_.light_pick == LightPick::Estimate) pick.estimate(lights_, hit.p, *bsdf);
+        const int picks = pick.picks();
         // Stratified over the pmf: pick k takes u in [k/picks, (k+1)/picks).
         for (int k = 0; k < picks; ++k) {
           glm::vec2 us(ul.y, ul.z);

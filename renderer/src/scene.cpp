@@ -78,6 +78,11 @@ Scene::Scene(const Feather& feather, const SceneOptions& options)
                                                           : RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE);
   scene_bounds_ = bounds_;
   if (options_.backdrop.enabled) add_backdrop();
+  // A few float ulps at the scene's coordinates: spawn's margins (once, not per ray).
+  const float scale = std::max({std::fabs(scene_bounds_.lo.x), std::fabs(scene_bounds_.lo.y),
+                                std::fabs(scene_bounds_.lo.z), std::fabs(scene_bounds_.hi.x),
+                                std::fabs(scene_bounds_.hi.y), std::fabs(scene_bounds_.hi.z), 1.0f});
+  spawn_eps_ = 1e-5f * scale;
 
   {
     // TBB gives a thread's tasks the FTZ/DAZ mode the thread had when it first

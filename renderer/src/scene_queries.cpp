@@ -105,10 +105,7 @@ bool Scene::occluded(const Ray& ray) const {
 // the fibre's tangent line at the hit (tube_exit_distance), never less than 2r. A
 // normal-oriented ribbon lies in the vane, so a ray leaves it at once.
 Ray Scene::spawn(const SurfaceHit& from, const glm::vec3& d, float tmax) const {
-  const float scale = std::max({std::fabs(scene_bounds_.lo.x), std::fabs(scene_bounds_.lo.y),
-                                std::fabs(scene_bounds_.lo.z), std::fabs(scene_bounds_.hi.x),
-                                std::fabs(scene_bounds_.hi.y), std::fabs(scene_bounds_.hi.z), 1.0f});
-  const float eps = 1e-5f * scale;  // a few float ulps at the scene's coordinates
+  const float eps = spawn_eps_;
   const float D = 2.05f * max_barb_radius_ + eps;
   Ray r;
   r.o = from.p - D * d;

@@ -131,6 +131,7 @@ class Scene {
   Bounds3f bounds_, scene_bounds_;
   float backdrop_z_ = 0;
   float max_barb_radius_ = 0;
+  float spawn_eps_ = 0;  // spawn's margin: a few float ulps at the scene's coordinates
   float max_radius_ = 0;
   std::optional<BarbSubstructure> left_, right_;
   std::vector<RibbonSegment> ribbon_segments_;
