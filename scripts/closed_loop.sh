@@ -14,20 +14,7 @@ status=0
 PLUMAGE_CLOSED_LOOP_REPORT="$out" "$build/plumage_tests" \
   --gtest_filter='ClosedLoop.TwentyRenderedFeathersOnWhiteAndBlackMeetTheBounds' || status=$?
 [ -f "$out/closed-loop-table.md" ] || { echo "closed_loop.sh: the study wrote no table" >&2; exit 1; }
-python3 - "$out/closed-loop-table.md" docs/analysis.md <<'PY'
-import sys, os
-table = open(sys.argv[1]).read()
-doc_path = sys.argv[2]
-doc = open(doc_path).read()
-begin, end = "<!-- closed-loop:begin -->", "<!-- closed-loop:end -->"
-if begin not in doc or end not in doc:
-    sys.exit(f"{doc_path}: no {begin} ... {end} markers; add them where the table goes")
-head, rest = doc.split(begin, 1)
-_, tail = rest.split(end, 1)
-tmp = doc_path + ".tmp"
-open(tmp, "w").write(head + begin + "\n" + table + end + tail)
-os.replace(tmp, doc_path)
-PY
+python3 scripts/doc_table.py docs/analysis.md closed-loop "$out/closed-loop-table.md"
 for i in 1 2 3; do cp "$out/closed-loop-$i.jpg" "docs/images/closed-loop-$i.jpg"; done
 echo "closed_loop.sh: table in docs/analysis.md, overlays in docs/images/closed-loop-{1,2,3}.jpg (test status $status)"
 exit $status

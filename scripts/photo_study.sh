@@ -37,9 +37,9 @@ for photo in "$photos"/*.jpg "$photos"/*.png; do
     cp "$out/$stem.png" "docs/images/study-$stem.png"
   fi
 done
-python3 - "$out" "$photos" docs/analysis.md <<'PY'
+python3 - "$out" "$photos" <<'PY'
 import sys, os, json, glob, re, statistics
-out, photos, doc_path = sys.argv[1:4]
+out, photos = sys.argv[1:3]
 counts = json.load(open("data/photo-study/counts.json"))["photos"]
 rows = ["| photo | by eye | analysed | skipped (id: why) | barbs per side, median (range) | shaft length mm (range) | warnings | analyze exit, wall s |",
         "|---|---|---|---|---|---|---|---|"]
@@ -75,15 +75,7 @@ for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
     l = f"{min(lengths):.0f}–{max(lengths):.0f}" if lengths else "—"
     warn = "; ".join(f"{k} ×{v}" for k, v in sorted(kinds.items(), key=lambda kv: -kv[1]))
     rows.append(f"| {name} | {eye_text} | {len(L['feathers'])} | {skipped or '—'} | {b} | {l} | {warn or '—'} | {rc}, {float(wall):.2f} |")
-table = "\n".join(rows) + "\n"
-doc = open(doc_path).read()
-begin, end = "<!-- photo-study:begin -->", "<!-- photo-study:end -->"
-if begin not in doc or end not in doc:
-    sys.exit(f"{doc_path}: no {begin} ... {end} markers; add them where the table goes")
-head, rest = doc.split(begin, 1)
-_, tail = rest.split(end, 1)
-tmp = doc_path + ".tmp"
-open(tmp, "w").write(head + begin + "\n" + table + end + tail)
-os.replace(tmp, doc_path)
+open(os.path.join(out, "photo-study-table.md"), "w").write("\n".join(rows) + "\n")
 PY
+python3 scripts/doc_table.py docs/analysis.md photo-study "$out/photo-study-table.md"
 echo "photo_study.sh: table in docs/analysis.md, overlays in docs/images/study-*.jpg"

@@ -12,6 +12,7 @@
 # SCENE_ARGS (--lights none --env 1 --backdrop none: the feather alone, white sky).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+root=$PWD
 target=${1:-0.01}
 PBRT=${PBRT:-/work/peers/pbrt-v3/build/pbrt}
 PLUMAGE=$(realpath "${PLUMAGE:-build/plumage}")
@@ -48,14 +49,4 @@ for n in "${rungs[@]}"; do
   echo "plumage,$n,$t,$(rms "plumage_$n.exr" plumage_ref.exr)" >> ladder.csv
 done
 cat ladder.csv
-awk -F, -v t="$target" 'NR > 1 { r = $1; n[r]++; c[r, n[r]] = $3; e[r, n[r]] = $4 }
-  END {
-    for (r in n) for (k = 1; k < n[r]; ++k)
-      if (e[r, k] >= t && e[r, k + 1] <= t) {
-        f = (log(t) - log(e[r, k])) / (log(e[r, k + 1]) - log(e[r, k]))
-        at[r] = exp(log(c[r, k]) + f * (log(c[r, k + 1]) - log(c[r, k])))
-        printf "%s: RMSE %g at %.2f CPU s\n", r, t, at[r]
-      }
-    if (("plumage" in at) && ("pbrt-v3" in at)) printf "plumage faster by %.2fx\n", at["pbrt-v3"] / at["plumage"]
-    else print "the target is not bracketed by both ladders: change SPP or the target"
-  }' ladder.csv
+awk -F, -v target="$target" -v by=renderer -v compare=1 -f "$root/scripts/time_to_error.awk" ladder.csv
