@@ -161,16 +161,16 @@ const Registration kBench{
       sub.add_option("--rig", o->rig, "Light rig JSON file")->capture_default_str();
       sub.add_option("--light-pick", o->light_pick, "Next-event estimation's light choice: uniform, estimate or all")
           ->capture_default_str()
-          ->check(one_of({"estimate", "uniform", "all"}));
+          ->check(one_of(kLightPicks));
       sub.add_option("--allocation", o->allocation, "Samples over pixels: variance or uniform (docs/skip-work.md)")
           ->capture_default_str()
-          ->check(one_of({"variance", "uniform"}));
+          ->check(one_of(kSampleAllocations));
       sub.add_option("--backdrop", o->backdrop, "Card under the feather: white, black or none")->capture_default_str()->check(one_of({"white", "black", "none"}));
       sub.add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str()->check(in_range(0, kMaxThreads));
       sub.add_option("--max-slope", o->max_slope, "Fail when a mode's upper-half slope is above this")->capture_default_str();
       sub.add_option("--reference-mode", o->reference_mode,
                      "Accuracy study: one reference in this mode (e.g. explicit) for every mode; no slope check")
-          ->check(one_of({"hair", "substructure", "explicit"}));
+          ->check(one_of(kShadingModes));
       sub.add_option("--zoom", o->zoom, "X,Y,H: top-down orthographic view H mm high centred on (X, Y) mm");
       return [o] { return run_bench(*o); };
     }};

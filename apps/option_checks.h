@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -110,6 +111,17 @@ inline CLI::Validator one_of(std::vector<std::string> names) {
         return "'" + text + "' is not one of: " + list;
       },
       "{" + list + "}", "CHOICE");
+}
+
+// One of a library enum's values, named by its to_string: the choices are listed
+// once, beside the enum (kShadingModes, kLightPicks, ...), and the library's parser
+// takes exactly these names.
+template <class E, std::size_t N>
+  requires std::is_enum_v<E>
+CLI::Validator one_of(const E (&values)[N]) {
+  std::vector<std::string> names;
+  for (E v : values) names.push_back(to_string(v));
+  return one_of(std::move(names));
 }
 
 // The largest image a command renders: 16384 pixels a side and 64 megapixels,

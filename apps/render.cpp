@@ -131,7 +131,7 @@ const Registration kRender{
       sub.add_option("-o,--output", o->output, "Output image: .exr (linear float) or .png (sRGB 8-bit)")->required();
       sub.add_option("--shading", o->shading, "Barb shading: hair (fibres, production practice), substructure (Baron et al. 2021; docs/substructure.md) or explicit (rami and barbules as real curves: the slow reference)")
           ->capture_default_str()
-          ->check(one_of({"hair", "substructure", "explicit"}));
+          ->check(one_of(kShadingModes));
       sub.add_option("--aov", o->aov, "Write an AOV instead of the beauty image: 'structure' colours ramus, distal and proximal barbules and gaps (needs --shading substructure or explicit)")
           ->check(one_of({"structure"}));
       o->substructure.add_to(sub);
@@ -145,7 +145,7 @@ const Registration kRender{
           ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
       sub.add_option("--sampler", o->sampler, "sobol (Owen-scrambled, Burley 2020) or independent")
           ->capture_default_str()
-          ->check(one_of({"sobol", "independent"}));
+          ->check(one_of(kSamplerKinds));
       sub.add_option("--beta-m", o->hair.beta_m, "Hair longitudinal roughness (0,1]")->capture_default_str();
       sub.add_option("--beta-n", o->hair.beta_n, "Hair azimuthal roughness (0,1]")->capture_default_str();
       sub.add_option("--alpha", o->hair.alpha_deg, "Cuticle tilt in degrees")->capture_default_str();

@@ -82,7 +82,7 @@ struct ViewOptions {
                    "How samples spread over pixels: variance (a pilot of spp/4, the rest where the noise is; "
                    "unbiased) or uniform (spp everywhere); docs/skip-work.md")
         ->capture_default_str()
-        ->check(one_of({"variance", "uniform"}));
+        ->check(one_of(kSampleAllocations));
     app.add_flag("--adaptive", adaptive, "Adaptive sampling: a pixel stops once converged (--spp is the cap; docs/skip-work.md)");
     app.add_option("--target-error", target_error, "With --adaptive: relative standard error of a pixel's mean at which it stops")
         ->capture_default_str()
@@ -103,7 +103,7 @@ struct ViewOptions {
                    "Next-event estimation's choice of light: estimate (in proportion to each light's "
                    "estimated contribution), uniform, or all (every light at every vertex); docs/rendering.md")
         ->capture_default_str()
-        ->check(one_of({"estimate", "uniform", "all"}));
+        ->check(one_of(kLightPicks));
     app.add_option("--rig", rig, "Light rig JSON file")->capture_default_str();
     app.add_option("--backdrop", backdrop, "Card under the feather: white (albedo 0.8), black (0.03) or none")
         ->capture_default_str()

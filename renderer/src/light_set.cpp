@@ -19,7 +19,7 @@ const char* to_string(LightPick pick) {
 }
 
 LightPick parse_light_pick(const std::string& name) {
-  for (LightPick p : {LightPick::Uniform, LightPick::Estimate, LightPick::All})
+  for (LightPick p : kLightPicks)
     if (name == to_string(p)) return p;
   throw Error("--light-pick '" + name + "': give uniform, estimate or all");
 }

@@ -37,8 +37,8 @@ bool converged(double sum, double sum_sq, int n, double target) {
 const char* to_string(SampleAllocation a) { return a == SampleAllocation::Uniform ? "uniform" : "variance"; }
 
 SampleAllocation parse_sample_allocation(const std::string& name) {
-  if (name == "uniform") return SampleAllocation::Uniform;
-  if (name == "variance") return SampleAllocation::Variance;
+  for (SampleAllocation a : kSampleAllocations)
+    if (name == to_string(a)) return a;
   throw Error("unknown sample allocation '" + name + "'; choose uniform or variance");
 }
 

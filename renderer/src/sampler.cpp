@@ -58,8 +58,8 @@ float to_unit(std::uint32_t x) { return float(x >> 8) * 0x1p-24f; }
 const char* to_string(SamplerKind k) { return k == SamplerKind::Sobol ? "sobol" : "independent"; }
 
 SamplerKind parse_sampler_kind(const std::string& s) {
-  if (s == "sobol") return SamplerKind::Sobol;
-  if (s == "independent") return SamplerKind::Independent;
+  for (SamplerKind k : kSamplerKinds)
+    if (s == to_string(k)) return k;
   throw Error("unknown sampler '" + s + "': use 'sobol' or 'independent'");
 }
 

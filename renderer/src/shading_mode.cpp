@@ -14,9 +14,8 @@ const char* to_string(ShadingMode m) {
 }
 
 ShadingMode parse_shading_mode(const std::string& s) {
-  if (s == "hair") return ShadingMode::Hair;
-  if (s == "substructure") return ShadingMode::Substructure;
-  if (s == "explicit") return ShadingMode::Explicit;
+  for (ShadingMode m : kShadingModes)
+    if (s == to_string(m)) return m;
   throw Error("unknown shading mode '" + s + "': use 'hair', 'substructure' or 'explicit'");
 }
 

@@ -48,6 +48,8 @@ enum class LightPick {
   Estimate,  // one light, in proportion to its unoccluded estimate (mixed with uniform)
   All,       // every light, one shadow ray each
 };
+// Every choice, in the order the CLI lists them (the default first).
+inline constexpr LightPick kLightPicks[] = {LightPick::Estimate, LightPick::Uniform, LightPick::All};
 const char* to_string(LightPick pick);
 // "uniform", "estimate" or "all"; throws plumage::Error naming the choices otherwise.
 LightPick parse_light_pick(const std::string& name);

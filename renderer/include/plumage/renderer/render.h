@@ -20,6 +20,7 @@ enum class SampleAllocation {
   Variance,  // a pilot of spp/4 per pixel, then the rest of the budget in proportion
              // to the noise the pilot found around each pixel; unbiased
 };
+inline constexpr SampleAllocation kSampleAllocations[] = {SampleAllocation::Variance, SampleAllocation::Uniform};
 const char* to_string(SampleAllocation a);
 // "uniform" or "variance"; throws plumage::Error naming the choices otherwise.
 SampleAllocation parse_sample_allocation(const std::string& name);

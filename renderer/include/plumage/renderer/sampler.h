@@ -15,6 +15,7 @@
 namespace plumage {
 
 enum class SamplerKind { Sobol, Independent };
+inline constexpr SamplerKind kSamplerKinds[] = {SamplerKind::Sobol, SamplerKind::Independent};
 const char* to_string(SamplerKind k);
 SamplerKind parse_sampler_kind(const std::string& s);  // "sobol" | "independent"
 

@@ -10,6 +10,8 @@
 namespace plumage {
 
 enum class ShadingMode { Hair, Substructure, Explicit };
+// Every mode, in the order the CLI lists them.
+inline constexpr ShadingMode kShadingModes[] = {ShadingMode::Hair, ShadingMode::Substructure, ShadingMode::Explicit};
 
 const char* to_string(ShadingMode m);
 // "hair", "substructure" or "explicit"; throws plumage::Error otherwise.
