@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -124,6 +125,29 @@ TEST_F(FileBatchTest, ImageReaderRefusesHugeAndCutShortFiles) {
     EXPECT_NE(std::string(e.what()).find("64x48x3"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("0.001-megapixel limit"), std::string::npos) << e.what();
   }
+  // A side above kMaxImageSide (decoders take scratch per block of up to 256 scanlines)
+  // or more than kMaxImageChannels channels: refused from the header, inside the
+  // megapixel limit. One pixel more or fewer decides.
+  write_image(dir_ / "wide.exr", Image(kMaxImageSide + 1, 1, 1, 0.5f));
+  write_image(dir_ / "widest_ok.exr", Image(kMaxImageSide, 1, 1, 0.5f));
+  write_image(dir_ / "channels.exr", Image(2, 2, kMaxImageChannels + 1, 0.5f));
+  write_image(dir_ / "channels_ok.exr", Image(2, 2, kMaxImageChannels, 0.5f));
+  try {
+    read_image(dir_ / "wide.exr");
+    ADD_FAILURE() << "a side of " << kMaxImageSide + 1 << " pixels was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(std::to_string(kMaxImageSide) + "-pixel limit of a side"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(read_image(dir_ / "widest_ok.exr").width, kMaxImageSide);
+  try {
+    read_image(dir_ / "channels.exr");
+    ADD_FAILURE() << kMaxImageChannels + 1 << " channels were read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(std::to_string(kMaxImageChannels + 1) + " channels"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(read_image(dir_ / "channels_ok.exr").channels, kMaxImageChannels);
   for (const char* name : {"ok.png", "ok.jpg"}) {
     const std::string bytes = read_file(dir_ / name);
     const fs::path cut = dir_ / (std::string("cut_") + name);
@@ -161,6 +185,33 @@ TEST(StderrCaptureTest, HoldsBackWhatIsPrintedAndRestoresStderr) {
   StderrCapture again;  // stderr works again and can be captured again
   std::fprintf(stderr, "three\n");
   EXPECT_EQ(again.text(), "three");
+}
+
+// PLUMAGE_KEEP_STDERR=1 (set by scripts/fuzz.sh) leaves stderr alone, so that a
+// sanitizer report from inside a decoder is not captured and lost.
+TEST(StderrCaptureTest, KeepStderrEnvironmentTurnsCapturingOff) {
+  const char* before = std::getenv("PLUMAGE_KEEP_STDERR");
+  const std::string saved = before != nullptr ? before : "";
+  ::setenv("PLUMAGE_KEEP_STDERR", "1", 1);
+  std::string kept;
+  {
+    StderrCapture capture;
+    std::fprintf(stderr, "(this line belongs on the test's stderr)\n");
+    kept = capture.text();
+  }
+  ::setenv("PLUMAGE_KEEP_STDERR", "0", 1);
+  std::string captured;
+  {
+    StderrCapture capture;
+    std::fprintf(stderr, "captured\n");
+    captured = capture.text();
+  }
+  if (before != nullptr)
+    ::setenv("PLUMAGE_KEEP_STDERR", saved.c_str(), 1);
+  else
+    ::unsetenv("PLUMAGE_KEEP_STDERR");
+  EXPECT_EQ(kept, "");
+  EXPECT_EQ(captured, "captured");
 }
 
 }  // namespace

@@ -163,13 +163,20 @@ Image read_image(const fs::path& path, bool linearize, double max_megapixels) {
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw Error(Location{path.string()}, "image has no pixels");
   const double megapixels = double(spec.width) * double(spec.height) / 1e6;
-  if (megapixels > max_megapixels || spec.nchannels > 64) {
+  if (megapixels > max_megapixels || spec.width > kMaxImageSide || spec.height > kMaxImageSide) {
     std::ostringstream m;
-    m << "image is " << spec.width << "x" << spec.height << "x" << spec.nchannels << " ("
-      << std::lround(megapixels) << " megapixels), above the " << max_megapixels
-      << "-megapixel limit of image inputs; downscale it first";
+    m << "image is " << spec.width << "x" << spec.height << "x" << spec.nchannels << " (" << std::lround(megapixels)
+      << " megapixels), above the ";
+    if (megapixels > max_megapixels)
+      m << max_megapixels << "-megapixel limit";
+    else
+      m << kMaxImageSide << "-pixel limit of a side";
+    m << " of image inputs; downscale it first";
     throw Error(Location{path.string()}, m.str());
   }
+  if (spec.nchannels > kMaxImageChannels)
+    throw Error(Location{path.string()}, "image has " + std::to_string(spec.nchannels) + " channels, above the limit of " +
+                                             std::to_string(kMaxImageChannels) + "; keep RGB or RGBA");
   Image img(spec.width, spec.height, spec.nchannels);
   if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data())) {
     std::string why = in->geterror();

@@ -8,6 +8,8 @@
 namespace plumage {
 
 StderrCapture::StderrCapture() {
+  const char* keep = std::getenv("PLUMAGE_KEEP_STDERR");
+  if (keep != nullptr && keep[0] != '\0' && keep[0] != '0') return;  // nothing captured
   std::fflush(stderr);
   char name[] = "/tmp/plumage-stderr-XXXXXX";
   file_ = ::mkstemp(name);

@@ -51,10 +51,18 @@ std::string damage_of(const std::filesystem::path& path);
 // any pixel memory is taken (up to 2 GiB of float pixels at 4 channels).
 inline constexpr double kMaxImageMegapixels = 128.0;
 
+// The longest side and the most channels read_image accepts. Decoders take
+// scratch memory per block of scanlines (OpenEXR's DWAB blocks hold 256 of them),
+// so a 1441796x1 EXR inside the megapixel limit made OpenImageIO ask for 4.4 GB
+// (found by fuzz_image). With these caps a block needs at most
+// 256 x 32768 x 16 x 4 bytes = 512 MiB.
+inline constexpr int kMaxImageSide = 32768;
+inline constexpr int kMaxImageChannels = 16;
+
 // Reads any format OIIO knows. 8/16-bit integer files are taken to be sRGB and
 // converted to linear unless `linearize` is false; float files are returned as is.
-// Only regular files are read (check_input_file); images above `max_megapixels`
-// are refused unread. Throws plumage::Error naming the file and the problem.
+// Only regular files are read (check_input_file); images above `max_megapixels`,
+// kMaxImageSide or kMaxImageChannels are refused unread. Throws plumage::Error naming the file and the problem.
 Image read_image(const std::filesystem::path& path, bool linearize = true,
                  double max_megapixels = kMaxImageMegapixels);
 

@@ -5,6 +5,9 @@
 // file descriptor 2 goes to a temporary file instead; text() hands it back, so
 // a caller can fold it into its one plumage::Error line or drop it.
 // The redirection is process-wide: use it around single-threaded decoding only.
+// PLUMAGE_KEEP_STDERR=1 in the environment turns capturing off, so that a crash
+// or sanitizer report inside a decoder reaches the terminal (scripts/fuzz.sh
+// sets it; a captured report would vanish with the unlinked temporary file).
 #include <string>
 
 namespace plumage {
