@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <numbers>
+#include <optional>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -117,6 +118,45 @@ TEST(RenderLights, Dome25RigHas25LedsOnTheUpperHemisphere) {
   EXPECT_EQ(lights[2].centre, rig.leds[11] + glm::vec3(1, 2, 3));
   // Radiant intensity I = L pi r^2 along any direction.
   EXPECT_NEAR(lights[0].radiance.x * kPi * rig.led_radius * rig.led_radius, rig.intensity.x, 1e-2f * rig.intensity.x);
+}
+
+// intersect_spheres skips segments that stay below the lowest LED; its answer must
+// be the brute-force nearest sphere hit before tmax for every ray, upward and
+// downward, short and open, from below, among and above the LEDs.
+TEST(RenderLights, SphereHitsMatchBruteForceOverRandomSegments) {
+  const DomeRig rig = read_dome_rig(fs::path(PLUMAGE_DATA_DIR) / "rigs/dome25.json");
+  LightSet lights;
+  std::vector<SphereLight> spheres = dome_lights(rig, parse_light_selection("all", 25), {0, 0, 0});
+  for (const SphereLight& l : spheres) lights.add(l);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> U(-1.0f, 1.0f);
+  int hits = 0, skipped_short = 0;
+  for (int k = 0; k < 200000; ++k) {
+    const glm::vec3 o(400 * U(rng), 400 * U(rng), 350 * U(rng));
+    // Half the rays aim near an LED (they are small), half anywhere.
+    const SphereLight& aim = spheres[std::size_t(k) % spheres.size()];
+    const glm::vec3 d = k % 2 == 0 ? glm::normalize(aim.centre + 2 * aim.radius * glm::vec3(U(rng), U(rng), U(rng)) - o)
+                                   : glm::normalize(glm::vec3(U(rng), U(rng), U(rng)) + glm::vec3(0, 0, 1e-3f));
+    const float tmax = k % 3 == 0 ? std::numeric_limits<float>::infinity() : 600 * (U(rng) + 1);
+    std::optional<float> best;
+    std::size_t best_i = 0;
+    for (std::size_t i = 0; i < spheres.size(); ++i) {
+      const auto t = intersect_sphere(spheres[i], o, d);
+      if (t && *t < tmax && (!best || *t < *best)) best = t, best_i = i;
+    }
+    const auto got = lights.intersect_spheres(o, d, tmax);
+    ASSERT_EQ(bool(got), bool(best)) << "ray " << k;
+    if (got) {
+      ++hits;
+      EXPECT_EQ(got->light, best_i);
+      EXPECT_EQ(got->t, *best);
+    } else if (d.z > 0 && std::isfinite(tmax)) {
+      ++skipped_short;
+    }
+  }
+  // The sample reaches both sides of the early-out.
+  EXPECT_GT(hits, 1000);
+  EXPECT_GT(skipped_short, 10000);
 }
 
 TEST(RenderLights, RigFileErrorsNameThePlace) {

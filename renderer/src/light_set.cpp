@@ -91,8 +91,10 @@ LightProxy LightSet::proxy(std::size_t i, const glm::vec3& p) const {
 
 std::optional<LightSet::Hit> LightSet::intersect_spheres(const glm::vec3& o, const glm::vec3& d, float tmax) const {
   std::optional<Hit> best;
-  // Most bounces off a feather under a dome head down, away from every LED.
-  if (d.z <= 0 && o.z < sphere_floor_) return best;
+  // No LED is hit by a segment that stays below the lowest one: most bounces off a
+  // feather under a dome head down, and most that head up meet a barb first.
+  const float top = d.z > 0 ? o.z + d.z * tmax : o.z;  // +inf for an open ray upward
+  if (top < sphere_floor_) return best;
   for (std::size_t i = 0; i < spheres_.size(); ++i) {
     const SphereLight& l = spheres_[i];
     const auto t = intersect_sphere(l, o, d);
