@@ -196,6 +196,12 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
            "lay them apart on the card and photograph them again, or pick another with --feather");
       continue;
     }
+    if (comp.separated_from > 0) {
+      std::ostringstream cut;
+      cut << "feather " << k << ": cut out of " << comp.separated_from
+          << " touching feathers along the neck between them; where they overlapped its vane may be clipped";
+      out.warnings.push_back(cut.str());
+    }
     try {
       analyze_feather(photo, seg, comp, k, opt, L, out, drawn, clock);
     } catch (const Error& e) {

@@ -3,6 +3,7 @@
 // filtered by size and thickness so text, labels and rulings are dropped.
 #include <algorithm>
 #include <cmath>
+#include <queue>
 #include <opencv2/imgproc.hpp>
 
 #include "steps.h"
@@ -84,10 +85,11 @@ constexpr double kCore = 0.6, kMinPiece = 0.15;
 // fan or a row of downy feathers on a string leaves the background between
 // them inside it.
 constexpr double kMinSolidity = 0.6;
-int count_cores(const cv::Mat& mask) {
-  cv::Mat padded, dt;
-  cv::copyMakeBorder(mask, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
-  cv::distanceTransform(padded, dt, cv::DIST_L2, 3);
+// The blob's distance transform and its core pieces (labels 1..n of `markers`,
+// CV_32S, mask-sized; 0 elsewhere); returns n (at least 1 for a non-empty mask).
+int core_markers(const cv::Mat& mask, cv::Mat& dt, cv::Mat& markers) {
+  cv::distanceTransform(mask, dt, cv::DIST_L2, 3);
+  markers = cv::Mat::zeros(mask.size(), CV_32S);
   double most = 0;
   cv::minMaxLoc(dt, nullptr, &most);
   if (most < 2) return 1;
@@ -95,9 +97,125 @@ int count_cores(const cv::Mat& mask) {
   const int n = cv::connectedComponentsWithStats(core, labels, stats, centroids, 8, CV_32S);
   int largest = 0;
   for (int i = 1; i < n; ++i) largest = std::max(largest, stats.at<int>(i, cv::CC_STAT_AREA));
+  std::vector<int> id(n, 0);
   int pieces = 0;
-  for (int i = 1; i < n; ++i) pieces += stats.at<int>(i, cv::CC_STAT_AREA) >= kMinPiece * largest;
+  for (int i = 1; i < n; ++i)
+    if (stats.at<int>(i, cv::CC_STAT_AREA) >= kMinPiece * largest) id[i] = ++pieces;
+  for (int y = 0; y < mask.rows; ++y)
+    for (int x = 0; x < mask.cols; ++x) markers.at<int>(y, x) = id[labels.at<int>(y, x)];
   return std::max(1, pieces);
+}
+
+// Fills a component's contour, area, hull solidity and border flag from its mask
+// (bbox-sized, at bbox's offset); false when the mask is empty.
+bool describe(Component& comp, const cv::Size& image) {
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(comp.mask.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, comp.bbox.tl());
+  if (contours.empty()) return false;
+  comp.contour = std::move(*std::max_element(contours.begin(), contours.end(), [](const auto& a, const auto& b) {
+    return cv::contourArea(a) < cv::contourArea(b);
+  }));
+  comp.area = cv::contourArea(comp.contour);
+  std::vector<cv::Point> hull;
+  cv::convexHull(comp.contour, hull);
+  comp.solidity = comp.area / std::max(1.0, cv::contourArea(hull));
+  comp.touches_border = comp.bbox.x <= 1 || comp.bbox.y <= 1 || comp.bbox.br().x >= image.width - 1 ||
+                        comp.bbox.br().y >= image.height - 1;
+  return true;
+}
+
+// Grows the labelled cores (markers > 0) over the rest of the mask, deepest
+// pixels (largest distance to the background) first: each pixel joins the label
+// that reaches it first (Meyer's flooding). Pixels outside the mask stay 0.
+void flood_from_cores(const cv::Mat& mask, const cv::Mat& dt, cv::Mat& markers) {
+  struct Item {
+    float depth;
+    int x, y;
+    bool operator<(const Item& o) const { return depth < o.depth; }
+  };
+  std::priority_queue<Item> queue;
+  auto push_neighbours = [&](int x, int y) {
+    const int label = markers.at<int>(y, x);
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int nx = x + dx, ny = y + dy;
+        if (nx < 0 || ny < 0 || nx >= mask.cols || ny >= mask.rows) continue;
+        if (!mask.at<uchar>(ny, nx) || markers.at<int>(ny, nx) != 0) continue;
+        markers.at<int>(ny, nx) = label;  // claimed now, grown from in depth order
+        queue.push({dt.at<float>(ny, nx), nx, ny});
+      }
+  };
+  for (int y = 0; y < mask.rows; ++y)
+    for (int x = 0; x < mask.cols; ++x)
+      if (markers.at<int>(y, x) > 0) queue.push({dt.at<float>(y, x), x, y});
+  while (!queue.empty()) {
+    const Item it = queue.top();
+    queue.pop();
+    push_neighbours(it.x, it.y);
+  }
+}
+
+// Touching feathers, told apart: the blob's core pieces (one per feather) grow
+// back over the blob by a watershed on the distance transform, so each piece
+// takes the pixels nearer its own ridge and the cut runs along the neck where
+// two feathers meet. The cut is kept only where the feathers barely touch: no
+// longer than kMaxCut of the narrowest piece's width (twice its largest
+// inscribed radius). Feathers that overlap, or lie quill on tip, meet over a
+// longer line, and a watershed there hands one feather's quill or tip to the
+// other (a feather whose quill is cut off is then read backwards), so they
+// stay one region, reported as such. Every piece must also be a feather by itself: at least
+// `min_area` and kMinPiece of the largest, and filling at least
+// kMinPieceSolidity of its hull (a cut leaves a ragged edge, so lower than a
+// whole feather's kMinSolidity). Otherwise the result is empty.
+constexpr double kMinPieceSolidity = 0.6, kMaxCut = 0.5;
+std::vector<Component> separate(const Component& blob, const cv::Size& image, double min_area) {
+  cv::Mat padded, dt, markers;
+  cv::copyMakeBorder(blob.mask, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  const int n = core_markers(padded, dt, markers);
+  if (n < 2) return {};
+  flood_from_cores(padded, dt, markers);
+  // The cut: pixels of one piece with a pixel of another among their 8
+  // neighbours; its length is the longer side of their smallest enclosing box.
+  std::vector<cv::Point> cut_points;
+  for (int y = 1; y + 1 < markers.rows; ++y)
+    for (int x = 1; x + 1 < markers.cols; ++x) {
+      const int here = markers.at<int>(y, x);
+      if (here < 1) continue;
+      bool other = false;
+      for (int dy = -1; dy <= 1 && !other; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int l = markers.at<int>(y + dy, x + dx);
+          if (l > 0 && l != here) other = true;
+        }
+      if (other) cut_points.emplace_back(x, y);
+    }
+  double cut = 0;
+  if (!cut_points.empty()) {
+    const cv::Size2f box = cv::minAreaRect(cut_points).size;
+    // Both sides of the cut are counted: half the thickness is one side.
+    cut = std::max(box.width, box.height) + 1.0;
+  }
+  std::vector<Component> pieces;
+  double largest = 0, narrowest = 1e300;
+  for (int i = 1; i <= n; ++i) {
+    double widest = 0;
+    cv::minMaxLoc(dt, nullptr, &widest, nullptr, nullptr, markers == i);
+    narrowest = std::min(narrowest, 2 * widest);
+    cv::Mat region = (markers == i) & padded;
+    const cv::Rect box = cv::boundingRect(region);
+    if (box.empty()) return {};
+    Component c;
+    c.bbox = box + blob.bbox.tl() - cv::Point(1, 1);
+    c.mask = region(box).clone();
+    if (!describe(c, image)) return {};
+    c.separated_from = n;
+    largest = std::max(largest, c.area);
+    pieces.push_back(std::move(c));
+  }
+  if (cut > kMaxCut * narrowest) return {};
+  for (const Component& c : pieces)
+    if (c.area < std::max(min_area, kMinPiece * largest) || c.solidity < kMinPieceSolidity) return {};
+  return pieces;
 }
 
 }  // namespace
@@ -154,13 +272,14 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   std::vector<std::vector<cv::Point>> contours;
   cv::findContours(bin, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
   const double image_area = double(bgr.total());
+  const double min_area = std::max(150.0, 3e-4 * image_area);
   std::vector<Component> kept;
   std::vector<cv::Rect> marks;  // everything that could be a letter, for text lines
   double largest = 0;
   for (auto& c : contours) {
     const double area = cv::contourArea(c);
     if (area >= 12) marks.push_back(cv::boundingRect(c));
-    if (area < std::max(150.0, 3e-4 * image_area)) continue;
+    if (area < min_area) continue;
     const cv::RotatedRect rr = cv::minAreaRect(c);
     const double len = std::max(rr.size.width, rr.size.height);
     if (area / std::max(len, 1.0) < 3.0) continue;  // a line, not a vane
@@ -214,13 +333,20 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
     cv::drawContours(comp.mask, std::vector<std::vector<cv::Point>>{comp.contour}, 0,
                      cv::Scalar(255), cv::FILLED, cv::LINE_8, cv::noArray(), 0, -comp.bbox.tl());
     close_barb_gaps(comp);
-    comp.cores = count_cores(comp.mask);
-    std::vector<cv::Point> hull;
-    cv::convexHull(comp.contour, hull);
-    comp.solidity = comp.area / std::max(1.0, cv::contourArea(hull));
+    {
+      cv::Mat padded, dt, markers;
+      cv::copyMakeBorder(comp.mask, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+      comp.cores = core_markers(padded, dt, markers);
+    }
+    describe(comp, bgr.size());
+    if (comp.cores > 1) {
+      std::vector<Component> pieces = separate(comp, bgr.size(), min_area);
+      if (!pieces.empty()) {
+        for (Component& c : pieces) seg.feathers.push_back(std::move(c));
+        continue;
+      }
+    }
     comp.unseparated = comp.cores > 1 || comp.solidity < kMinSolidity;
-    comp.touches_border = comp.bbox.x <= 1 || comp.bbox.y <= 1 ||
-                          comp.bbox.br().x >= bgr.cols - 1 || comp.bbox.br().y >= bgr.rows - 1;
     seg.feathers.push_back(std::move(comp));
   }
   std::sort(seg.feathers.begin(), seg.feathers.end(), [](const Component& a, const Component& b) {

@@ -36,6 +36,9 @@ struct Component {
   bool unseparated = false;
   int cores = 1;        // pieces of the distance-transform core
   double solidity = 1;  // area / convex hull area
+  // > 0: this feather was cut out of a blob of that many touching feathers
+  // (segmentation.cpp, separate); its vane may be clipped where they overlapped.
+  int separated_from = 0;
 };
 struct Segmentation {
   bool dark_background = false;
