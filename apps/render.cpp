@@ -3,6 +3,7 @@
 // directional lights (docs/rendering.md).
 #include <chrono>
 #include <filesystem>
+#include <regex>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -137,7 +138,14 @@ const Registration kRender{
       o->substructure.add_to(sub);
       o->view.add_to(sub, "Image size WIDTHxHEIGHT",
                      "Dome LEDs that are on: all, none, or numbers 1..25 (e.g. 1,5,12 or 2-9)");
-      sub.add_option("--env", o->env, "Environment: a grey value, R,G,B, or a lat-long .exr/.hdr image (+Z is up)");
+      sub.add_option("--env", o->env, "Environment: a grey value, R,G,B, or a lat-long .exr/.hdr image (+Z is up)")
+          ->check([](const std::string& v) -> std::string {
+            // Numbers that do not make a colour ("nan", "inf,1,1", "1,2") are a
+            // usage error, not a file that is missing.
+            static const std::regex numeric(R"(^[-+0-9.,eE ]*(nan|NaN|NAN|inf|Inf|INF|infinity)?[-+0-9.,eE ]*$)");
+            if (parse_colour(v) || std::filesystem::exists(v) || !std::regex_match(v, numeric)) return "";
+            return "'" + v + "' is neither a grey value nor R,G,B of finite numbers (nor an image file)";
+          });
       sub.add_option("--env-scale", o->env_scale, "Multiplier on the environment radiance")->capture_default_str()->check(in_range(0, 1e6));
       sub.add_option("--directional", o->directional, "Directional light DX,DY,DZ,E or DX,DY,DZ,R,G,B (toward the light; irradiance); repeatable")
           ->allow_extra_args(false)

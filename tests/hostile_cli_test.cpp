@@ -537,6 +537,9 @@ TEST_F(HostileCli, MessagesNameTheRealCulprit) {
       {"render {d}/tex_huge.fcurves --resolution 8x8 --spp 1 -o {o}/out.png", 1,
        "20000x20000x3 (400 megapixels), above the 128-megapixel limit"},
       {kRender + " --env /dev/zero", 1, "/dev/zero: is not a regular file"},
+      {kRender + " --env nan", 2, "--env: 'nan' is neither a grey value nor R,G,B of finite numbers"},
+      {kRender + " --env 1,2", 2, "--env: '1,2' is neither a grey value nor R,G,B of finite numbers"},
+      {kRender + " --env 0.5,inf,1", 2, "--env: '0.5,inf,1' is neither a grey value nor R,G,B"},
       {kCompare + " --photo {d}/fifo.png", 1, "{d}/fifo.png: is not a regular file"},
       {kRender + " --env {d}/zero.png", 1, "Invalid IHDR data"},  // libpng's words, inside the one line
       {"generate --preset rock-dove-wing -o {o}/out.fcurves --preview {o}/nodir/p.png", 1, "does not exist"},
