@@ -1,8 +1,10 @@
 // `plumage photo-to-feather`: the whole chain of DESIGN §1 on one photo —
 // analyze (layout.json, overlay, albedo), generate (feather.fcurves, preview),
-// compare (photo | hair | substructure, framed like the photo) — with a
-// summary.json and one line per stage with its time. A stage that fails removes
-// the files it had written, so outdir holds only finished stages.
+// compare (the picked feather cropped from the photo | hair | substructure, in
+// one pose, with their fidelity) — with a summary.json and one line per stage
+// with its time. The chain itself is apps/pipeline (photo_comparison.h); this file
+// parses options and prints. Every option is checked before OUTDIR is touched; a
+// stage that fails removes the files it had written, so OUTDIR holds only finished stages.
 #include <chrono>
 #include <filesystem>
 #include <functional>
@@ -18,16 +20,13 @@
 
 #include "command.h"
 #include "option_checks.h"
+#include "view_options.h"
 #include "plumage/common/atomic_file.h"
-#include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
 #include "plumage/generator/analysis/analyze.h"
 #include "plumage/generator/layout_to_params.h"
-#include "plumage/generator/preview.h"
-#include "plumage/renderer/feather_render.h"
-#include "plumage/renderer/film.h"
-#include "plumage/renderer/panel_layout.h"
+#include "plumage/pipeline/photo_comparison.h"
 
 namespace plumage::cli {
 namespace {
@@ -39,11 +38,17 @@ struct Options {
   std::optional<int> feather;
   std::optional<double> mm_per_px;
   double grid_mm = 10.0;
-  int spp = 16;
-  int height = 320;
-  std::uint64_t seed = 1;
-  std::string rig = std::string(PLUMAGE_DATA_DIR) + "/rigs/dome25.json";
-  int threads = 0;
+  int height = kDefaultHeight;
+  bool fidelity_image = false;
+  ViewOptions view = default_view();
+
+  static constexpr int kDefaultHeight = 240;
+  static ViewOptions default_view() {
+    ViewOptions v{"", ""};
+    v.spp = 8;
+    v.seed = 1;
+    return v;
+  }
 };
 
 // Runs one stage: times it, and on failure removes the files it wrote and
@@ -80,22 +85,6 @@ class Stages {
   std::vector<std::pair<std::string, double>> seconds_;
 };
 
-// An orthographic top view that sees the feather as the photo does: the photo's
-// centre, its "up" and its height in mm, mapped through image -> feather.
-CameraSpec photo_camera(const Layout& layout, const FeatherLayout& f) {
-  const glm::dvec2 centre = apply(f.feather_from_image, {0.5 * layout.image_width, 0.5 * layout.image_height});
-  const glm::dvec2 up = glm::normalize(apply(f.feather_from_image, {0.0, 0.0}) - apply(f.feather_from_image, {0.0, 1.0}));
-  // Low enough to stay under the dome rig's LEDs (300 mm), high above a cupped vane.
-  const double above = std::min(0.3 * f.length_mm + 10.0, 250.0);
-  CameraSpec c;
-  c.projection = Projection::Orthographic;
-  c.position = glm::vec3(float(centre.x), float(centre.y), float(above));
-  c.look_at = glm::vec3(float(centre.x), float(centre.y), 0.0f);
-  c.up = glm::vec3(float(up.x), float(up.y), 0.0f);
-  c.ortho_height = float(layout.image_height * layout.scale.mm_per_px);
-  return c;
-}
-
 std::string fixed(double v, int digits) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(digits) << v;
@@ -103,9 +92,12 @@ std::string fixed(double v, int digits) {
 }
 
 int run_photo_to_feather(const Options& o) {
-  if (o.spp < 1) throw Error("--spp must be at least 1");
+  // Every option before OUTDIR is touched (a usage error from CLI11 comes earlier still).
   if (o.height < 16 || o.height > 8192) throw Error("--height must lie in [16, 8192] pixels");
-  if (!fs::exists(o.photo)) throw Error(Location{o.photo}, "no such file; give the photograph to analyse");
+  check_input_file(o.photo, "a photograph");
+  const ViewSpec sampling = o.view.sampling_spec(false);
+  const DomeRig rig = read_dome_rig(o.view.rig);
+  parse_light_selection(sampling.lights, int(rig.leds.size()));
   const fs::path out = o.outdir;
   if (fs::exists(out) && !fs::is_directory(out))
     throw Error(Location{o.outdir}, "exists and is not a folder; give -o a folder for the artifacts");
@@ -119,6 +111,7 @@ int run_photo_to_feather(const Options& o) {
   const fs::path fcurves_path = out / "feather.fcurves", preview_path = out / "preview.png";
   const fs::path texture_path = out / "feather.albedo.png";
   const fs::path comparison_path = out / "comparison.png", summary_path = out / "summary.json";
+  const fs::path fidelity_path = out / "fidelity.png";
   PhotoAnalysis analysis;
   Feather feather;
   std::vector<std::string> warnings;
@@ -153,13 +146,10 @@ int run_photo_to_feather(const Options& o) {
       sheet_notes.push_back(note);
     }
     stages.run("generate", written, [&] {
-      written.push_back(texture_path);
-      feather = layout_to_feather_with_albedo(f, o.seed, out, out, texture_path, layout_path.string(), &warnings);
-      validate_feather(feather);
-      written.push_back(fcurves_path);
-      write_fcurves(fcurves_path, feather);
-      written.push_back(preview_path);
-      write_image(preview_path, render_preview(feather, PreviewOptions{1024, true}));
+      FileBatch outputs;
+      feather = generate_from_layout(f, sampling.seed, layout_path, fcurves_path, preview_path, 1024, outputs, &warnings);
+      outputs.commit();
+      written = {fcurves_path, texture_path, preview_path};
       return "feather " + std::to_string(f.id) + ": length " + fixed(f.length_mm, 1) + " mm, " +
              std::to_string(feather.count(VaneSide::Left)) + " + " + std::to_string(feather.count(VaneSide::Right)) +
              " barbs -> feather.fcurves, feather.albedo.png, preview.png";
@@ -168,32 +158,24 @@ int run_photo_to_feather(const Options& o) {
     written.clear();
     for (const auto& w : warnings) std::cerr << "warning: feather " << f.id << ": " << w << "\n";
 
-    int width = 0;
+    PhotoComparison comparison;
     stages.run("compare", written, [&] {
-      ViewSpec view;
-      view.height = o.height;
-      view.width = std::max(16, int(std::lround(double(o.height) * analysis.layout.image_width /
-                                                std::max(1, analysis.layout.image_height))));
-      width = view.width;
-      view.spp = o.spp;
-      view.seed = o.seed;
-      view.threads = o.threads;
+      ViewSpec view = sampling;
       view.base_dir = out;
-      view.camera = photo_camera(analysis.layout, f);
-      const DomeRig rig = read_dome_rig(o.rig);
-      SceneOptions so;
-      so.backdrop = {true, analysis.layout.background == "dark" ? glm::vec3(0.03f) : glm::vec3(0.8f)};
-      const Image photo = read_image(o.photo);
-      view.card_level = border_luminance(photo);  // expose the renders like the photo: its card at its level
-      std::vector<Panel> panels{{scale_to_height(photo, view.height), "photo"}};
-      so.mode = ShadingMode::Hair;
-      panels.push_back({render_view(Scene(feather, so), rig, view), "hair"});
-      so.mode = ShadingMode::Substructure;
-      panels.push_back({render_view(Scene(feather, so), rig, view), "substructure"});
-      written.push_back(comparison_path);
-      write_image(comparison_path, side_by_side(panels));
-      return std::to_string(view.width) + "x" + std::to_string(view.height) + " per panel, " +
-             std::to_string(o.spp) + " spp -> comparison.png";
+      comparison = compare_with_photo(read_image(o.photo), analysis.layout, f, feather, rig, view, o.height);
+      FileBatch outputs;
+      write_image(outputs, comparison_path, comparison_image(comparison));
+      if (o.fidelity_image) write_image(outputs, fidelity_path, fidelity_image(comparison));
+      outputs.commit();
+      written = {comparison_path};
+      if (o.fidelity_image) written.push_back(fidelity_path);
+      const auto& h = comparison.fidelity.at(0).feather;
+      const auto& sub = comparison.fidelity.at(1).feather;
+      return std::to_string(comparison.crop.width) + "x" + std::to_string(comparison.crop.height) + " per panel, " +
+             std::to_string(sampling.spp) + " spp -> comparison.png" + (o.fidelity_image ? ", fidelity.png" : "") +
+             "; silhouette IoU hair " + fixed(h.iou, 3) + ", substructure " + fixed(sub.iou, 3) +
+             "; colour dE2000 hair " + fixed(h.mean_colour_de2000, 1) + ", substructure " +
+             fixed(sub.mean_colour_de2000, 1);
     });
     files.insert(files.end(), written.begin(), written.end());
     written.clear();
@@ -211,7 +193,11 @@ int run_photo_to_feather(const Options& o) {
                      {"barbs_right", feather.count(VaneSide::Right)},
                      {"curves", feather.curves.size()},
                      {"control_points", feather.num_control_points()}};
-      j["render"] = {{"spp", o.spp}, {"seed", o.seed}, {"panel_width", width}, {"panel_height", o.height}};
+      j["render"] = {{"spp", sampling.spp},
+                     {"seed", sampling.seed},
+                     {"panel_width", comparison.crop.width},
+                     {"panel_height", comparison.crop.height}};
+      j["fidelity"] = fidelity_json(comparison);
       nlohmann::json st = nlohmann::json::array();
       for (const auto& [name, s] : stages.seconds()) st.push_back({{"stage", name}, {"seconds", s}});
       j["stages"] = st;
@@ -255,13 +241,12 @@ const Registration kPhotoToFeather{
           ->check(in_range(1e-4, 1e3));
       sub.add_option("--grid-mm", o->grid_mm, "Spacing of a grid's lines in the photo (mm)")->capture_default_str()
           ->check(in_range(0.01, 1e4));
-      sub.add_option("--spp", o->spp, "Samples per pixel of the renders")->capture_default_str()->check(in_range(1, kMaxSpp));
-      sub.add_option("--height", o->height, "Height of each comparison panel in pixels (width follows the photo)")
+      sub.add_option("--height", o->height, "Height of each comparison panel in pixels (width follows the crop)")
           ->capture_default_str()
           ->check(in_range(16, 4096));
-      sub.add_option("--seed", o->seed, "Seed of the generator and the renderer")->capture_default_str();
-      sub.add_option("--rig", o->rig, "Light rig JSON file")->capture_default_str();
-      sub.add_option("--threads", o->threads, "Render threads (0 = all cores)")->capture_default_str()->check(in_range(0, kMaxThreads));
+      sub.add_flag("--fidelity-image", o->fidelity_image,
+                   "Also write fidelity.png: each render's silhouette against the photo's and its pixel dE2000");
+      o->view.add_sampling_to(sub, "Dome LEDs that are on");
       return [o] { return run_photo_to_feather(*o); };
     }};
 

@@ -241,6 +241,20 @@ void make_buildable(FeatherParams& p, std::vector<std::string>& warnings) {
 }
 }  // namespace
 
+SubstructureParams closed_vane_substructure(double spacing_mm, double angle_deg, const SubstructureParams& base) {
+  SubstructureParams s = base;
+  const double gap = spacing_mm * std::sin(std::clamp(angle_deg, 5.0, 90.0) * kPi / 180.0);
+  s.ribbon_width = float(std::clamp(kBarbOverlap * gap, 4.0 * base.ramus_radius, 10.0));
+  s.ramus_radius = std::min(s.ramus_radius, 0.25f * s.ribbon_width);
+  return s;
+}
+
+int closing_barbule_count(double longest_barb_mm, const SubstructureParams& s) {
+  if (!(s.barbule_radius > 0) || !(longest_barb_mm > 0)) return s.barbules_per_side;
+  const double n = kBarbuleClosure * longest_barb_mm * std::sin(s.elevation_deg * kPi / 180.0) / (2.0 * s.barbule_radius);
+  return int(std::clamp(std::ceil(n), 1.0, 100000.0));
+}
+
 double barb_spacing_prior_mm(double length_mm) {
   return std::clamp(0.25 + 0.002 * length_mm, 0.25, 0.75);
 }
@@ -378,6 +392,11 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
     // Barbs per side = vane length / spacing along the shaft (docs/layout-format.md).
     vp.barb_density = 0;
     vp.barbs = int(std::clamp(std::lround(vane_length / d), 2L, 5000L));
+    // A closed vane (docs/analysis.md, "Barbules"): ribbons as wide as the gap
+    // between neighbouring barbs at the vane's median barb angle, with an overlap.
+    std::vector<double> angles;
+    for (const auto& q : angle) angles.push_back(std::max(q.y, 5.0));
+    vp.substructure = closed_vane_substructure(d, median(angles), preset.vane(s == 0 ? VaneSide::Left : VaneSide::Right).substructure);
   }
   make_buildable(p, out.warnings);
   validate(p, source);
@@ -435,6 +454,19 @@ Feather layout_to_feather(const FeatherLayout& f, std::uint64_t seed, const std:
     const double s = f.albedo.mm_per_texel;
     feather.albedo.rect_min = glm::vec2(f.albedo.origin_mm.x, f.albedo.origin_mm.y - f.albedo.height_px * s);
     feather.albedo.rect_max = glm::vec2(f.albedo.origin_mm.x + f.albedo.width_px * s, f.albedo.origin_mm.y);
+  }
+  // Enough barbules per side that the longest barb of each vane is closed too
+  // (shorter barbs, with the same count, are denser).
+  for (VaneSide side : {VaneSide::Left, VaneSide::Right}) {
+    double longest = 0;
+    for (const Curve& curve : feather.curves) {
+      if (curve.kind != CurveKind::Barb || curve.side != side) continue;
+      double length = 0;  // the control polygon: at least the curve's arc length
+      for (std::size_t i = 1; i < curve.points.size(); ++i) length += glm::length(curve.points[i].p - curve.points[i - 1].p);
+      longest = std::max(longest, length);
+    }
+    SubstructureParams& sp = feather.substructure(side);
+    sp.barbules_per_side = closing_barbule_count(longest, sp);
   }
   feather.provenance.source = "layout:" + source;
   feather.provenance.seed = seed;

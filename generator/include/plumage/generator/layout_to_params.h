@@ -36,6 +36,18 @@ inline constexpr double kLayoutMinConfidence = 0.5;
 // "Barb density": 0.25 mm + 0.2 % of the length, within [0.25, 0.75] mm).
 double barb_spacing_prior_mm(double length_mm);
 
+// The substructure of an intact (closed) pennaceous vane, where each barb's distal
+// barbules lie over the next barb's proximal ones (docs/analysis.md, "Barbules"):
+// the ribbon width W is kBarbOverlap times the gap between neighbouring barbs,
+// spacing x sin(barb angle); the ramus radius is at most W / 4; the rest is `base`'s.
+inline constexpr double kBarbOverlap = 1.3;
+SubstructureParams closed_vane_substructure(double spacing_mm, double angle_deg, const SubstructureParams& base);
+
+// Barbules per side that cover a barb of `longest_barb_mm` across the whole ribbon
+// (DESIGN §5: covered when 2 r_b N / (L sin theta_b) >= 1), with kBarbuleClosure to spare.
+inline constexpr double kBarbuleClosure = 1.1;
+int closing_barbule_count(double longest_barb_mm, const SubstructureParams& s);
+
 // Throws plumage::Error naming `source` (the layout file) and the bad value when
 // the layout cannot describe a feather (no shaft length, stations out of order,
 // profiles of the wrong length, non-finite numbers).
