@@ -113,7 +113,8 @@ void check_size(const Image& img, const PanelRegions& regions) {
 
 }  // namespace
 
-MeasuredPanel measure_panel(const Image& panel, const PanelRegions& regions, const FidelitySettings& settings) {
+MeasuredPanel measure_panel(const Image& panel, const PanelRegions& regions, const FidelitySettings& settings,
+                            std::optional<glm::vec3> backdrop) {
   check_size(panel, regions);
   MeasuredPanel m;
   m.blurred = gaussian_blur(panel, settings.blur_sigma_px);
@@ -130,6 +131,7 @@ MeasuredPanel measure_panel(const Image& panel, const PanelRegions& regions, con
     if (!ring[0].empty()) break;
   }
   for (int k = 0; k < 3; ++k) m.backdrop[k] = median(ring[k]);
+  if (backdrop) m.backdrop = *backdrop;
   const glm::vec3 backdrop_lab = linear_rgb_to_lab(m.backdrop);
   m.feather.assign(std::size_t(w) * h, 0);
   for (int y = 0; y < h; ++y)

@@ -59,11 +59,11 @@ PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, con
                 " but its layout was made from a " + std::to_string(layout.image_width) + "x" +
                 std::to_string(layout.image_height) + " image");
   Image photo_panel = crop_photo(photo, c.crop);
+  const glm::vec3 bg = background_colour(photo, photo_panel);
   view.width = c.crop.width;
   view.height = c.crop.height;
   view.camera = crop_camera(picked, c.crop);
   SceneOptions so;
-  const glm::vec3 bg = background_colour(photo_panel);
   so.backdrop = photo_backdrop(bg, picked, c.crop, control_point_bounds(feather));
   // Expose like the photo: the card (its albedo proportional to the photo's
   // background) develops to the background's own level, so to its colour.
@@ -71,7 +71,11 @@ PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, con
   c.panels.push_back({std::move(photo_panel), "photo"});
   for (Panel& p : render_both_modes(feather, so, rig, view)) c.panels.push_back(std::move(p));
   c.regions = crop_regions(picked, c.crop);
-  for (const Panel& p : c.panels) c.measured.push_back(measure_panel(p.image, c.regions, settings));
+  // The photo's backdrop is its background (neighbouring feathers may lie in its
+  // ring); a render's card is alone in its panel.
+  for (const Panel& p : c.panels)
+    c.measured.push_back(measure_panel(p.image, c.regions, settings,
+                                       c.measured.empty() ? std::optional<glm::vec3>(bg) : std::nullopt));
   for (std::size_t i = 1; i < c.measured.size(); ++i)
     c.fidelity.push_back(compare_panels(c.measured[0], c.measured[i], c.regions));
   return c;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "plumage/common/error.h"
 
@@ -108,14 +109,18 @@ CameraSpec crop_camera(const FeatherLayout& f, const PhotoCrop& crop) {
   return c;
 }
 
-glm::vec3 background_colour(const Image& panel) {
+namespace {
+glm::vec3 ring_median(const Image& img, const std::function<bool(const glm::vec3&)>& keep) {
   std::vector<float> ring[3];
-  for (int x = 0; x < panel.width; ++x)
-    for (int y : {0, panel.height - 1})
-      for (int k = 0; k < 3; ++k) ring[k].push_back(panel.rgb(x, y)[k]);
-  for (int y = 1; y + 1 < panel.height; ++y)
-    for (int x : {0, panel.width - 1})
-      for (int k = 0; k < 3; ++k) ring[k].push_back(panel.rgb(x, y)[k]);
+  const auto take = [&](int x, int y) {
+    const glm::vec3 c = img.rgb(x, y);
+    if (!keep(c)) return;
+    for (int k = 0; k < 3; ++k) ring[k].push_back(c[k]);
+  };
+  for (int x = 0; x < img.width; ++x) take(x, 0), take(x, img.height - 1);
+  for (int y = 1; y + 1 < img.height; ++y) take(0, y), take(img.width - 1, y);
+  const std::size_t all = 2 * std::size_t(img.width) + 2 * std::size_t(std::max(0, img.height - 2));
+  if (ring[0].size() < std::max<std::size_t>(8, all / 10)) return glm::vec3(-1);
   glm::vec3 colour(0);
   for (int k = 0; k < 3; ++k) {
     auto mid = ring[k].begin() + std::ptrdiff_t(ring[k].size() / 2);
@@ -123,6 +128,16 @@ glm::vec3 background_colour(const Image& panel) {
     colour[k] = std::max(*mid, 1e-3f);
   }
   return colour;
+}
+}  // namespace
+
+glm::vec3 background_colour(const Image& photo, const Image& photo_panel) {
+  const glm::vec3 whole = ring_median(photo, [](const glm::vec3&) { return true; });
+  const glm::vec3 whole_lab = linear_rgb_to_lab(whole);
+  const glm::vec3 local = ring_median(photo_panel, [&](const glm::vec3& c) {
+    return ciede2000(linear_rgb_to_lab(c), whole_lab) < kBackgroundDe;
+  });
+  return local.x >= 0 ? local : whole;
 }
 
 BackdropSpec photo_backdrop(const glm::vec3& colour, const FeatherLayout& f, const PhotoCrop& crop,

@@ -3,6 +3,7 @@
 // measured on panels that overlay pixel for pixel (photo_view.h): silhouette IoU
 // and colour difference (CIE ΔE 2000), for the whole feather and per vane.
 // Every metric is defined in docs/analysis.md, "Fidelity".
+#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -36,10 +37,11 @@ Image gaussian_blur(const Image& img, float sigma);
 // One panel, ready to compare: blurred, its backdrop colour and its feather mask.
 struct MeasuredPanel {
   Image blurred;                // linear RGB
-  glm::vec3 backdrop{0};        // per-channel median of the outermost pixel ring (compared pixels left out)
+  glm::vec3 backdrop{0};        // the given one, or the per-channel median of the outermost pixel ring (compared pixels left out)
   std::vector<char> feather;    // 1 = feather (only where the region is compared)
 };
-MeasuredPanel measure_panel(const Image& panel, const PanelRegions& regions, const FidelitySettings& settings);
+MeasuredPanel measure_panel(const Image& panel, const PanelRegions& regions, const FidelitySettings& settings,
+                            std::optional<glm::vec3> backdrop = std::nullopt);
 
 struct VaneFidelity {
   double iou = 0;                  // |photo ∩ render| / |photo ∪ render| over the feather masks

@@ -32,9 +32,13 @@ Image crop_photo(const Image& photo, const PhotoCrop& crop);
 // the layout's transform mirrors the photo (the camera cannot see a mirror image).
 CameraSpec crop_camera(const FeatherLayout& feather, const PhotoCrop& crop);
 
-// The photo's background: per-channel median (linear RGB) of the photo panel's
-// outermost ring of pixels.
-glm::vec3 background_colour(const Image& photo_panel);
+// The photo's background near the picked feather (linear RGB): the per-channel
+// median of the photo panel's outermost ring of pixels, counting only those within
+// kBackgroundDe (ΔE 2000) of the whole photo's border median, so that neighbouring
+// feathers on a sheet do not count; the whole photo's border median when fewer
+// than a tenth of the ring (and 8 pixels) qualify.
+inline constexpr double kBackgroundDe = 15.0;
+glm::vec3 background_colour(const Image& photo, const Image& photo_panel);
 
 // The backdrop card of the photo: the background colour as the card's albedo
 // (scaled so no channel exceeds 0.9), large enough to fill the crop's whole view.
