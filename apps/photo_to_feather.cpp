@@ -38,11 +38,11 @@ struct Options {
   std::optional<int> feather;
   std::optional<double> mm_per_px;
   double grid_mm = 10.0;
-  int height = kDefaultHeight;
+  int size = kDefaultSize;
   bool fidelity_image = false;
   ViewOptions view = default_view();
 
-  static constexpr int kDefaultHeight = 240;
+  static constexpr int kDefaultSize = 672;
   static ViewOptions default_view() {
     ViewOptions v{"", ""};
     v.spp = 8;
@@ -93,7 +93,6 @@ std::string fixed(double v, int digits) {
 
 int run_photo_to_feather(const Options& o) {
   // Every option before OUTDIR is touched (a usage error from CLI11 comes earlier still).
-  if (o.height < 16 || o.height > 8192) throw Error("--height must lie in [16, 8192] pixels");
   check_input_file(o.photo, "a photograph");
   const ViewSpec sampling = o.view.sampling_spec(false);
   const DomeRig rig = read_dome_rig(o.view.rig);
@@ -162,7 +161,7 @@ int run_photo_to_feather(const Options& o) {
     stages.run("compare", written, [&] {
       ViewSpec view = sampling;
       view.base_dir = out;
-      comparison = compare_with_photo(read_image(o.photo), analysis.layout, f, feather, rig, view, o.height);
+      comparison = compare_with_photo(read_image(o.photo), analysis.layout, f, feather, rig, view, o.size);
       FileBatch outputs;
       write_image(outputs, comparison_path, comparison_image(comparison));
       if (o.fidelity_image) write_image(outputs, fidelity_path, fidelity_image(comparison));
@@ -241,7 +240,7 @@ const Registration kPhotoToFeather{
           ->check(in_range(1e-4, 1e3));
       sub.add_option("--grid-mm", o->grid_mm, "Spacing of a grid's lines in the photo (mm)")->capture_default_str()
           ->check(in_range(0.01, 1e4));
-      sub.add_option("--height", o->height, "Height of each comparison panel in pixels (width follows the crop)")
+      sub.add_option("--size", o->size, "Longer side of each comparison panel in pixels (the other follows the crop)")
           ->capture_default_str()
           ->check(in_range(16, 4096));
       sub.add_flag("--fidelity-image", o->fidelity_image,

@@ -139,6 +139,29 @@ MeasuredPanel measure_panel(const Image& panel, const PanelRegions& regions, con
       if (regions.at(x, y))
         m.feather[std::size_t(y) * w + x] =
             ciede2000(linear_rgb_to_lab(m.blurred.rgb(x, y)), backdrop_lab) > settings.mask_de;
+  // A silhouette has no holes: backdrop-coloured pixels that no path of
+  // non-feather pixels joins to the panel's edge (a pale bar on a barred vane,
+  // say) are feather; gaps open to the edge (splits) stay.
+  std::vector<char> outside(m.feather.size(), 0);
+  std::vector<std::pair<int, int>> stack;
+  const auto push = [&](int x, int y) {
+    const std::size_t i = std::size_t(y) * w + x;
+    if (x < 0 || y < 0 || x >= w || y >= h || outside[i] || m.feather[i]) return;
+    outside[i] = 1;
+    stack.emplace_back(x, y);
+  };
+  for (int x = 0; x < w; ++x) push(x, 0), push(x, h - 1);
+  for (int y = 0; y < h; ++y) push(0, y), push(w - 1, y);
+  while (!stack.empty()) {
+    const auto [x, y] = stack.back();
+    stack.pop_back();
+    push(x + 1, y), push(x - 1, y), push(x, y + 1), push(x, y - 1);
+  }
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t i = std::size_t(y) * w + x;
+      if (regions.at(x, y) && !outside[i]) m.feather[i] = 1;
+    }
   return m;
 }
 

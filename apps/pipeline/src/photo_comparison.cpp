@@ -49,11 +49,11 @@ Bounds3f control_point_bounds(const Feather& feather) {
 }  // namespace
 
 PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, const FeatherLayout& picked,
-                                   const Feather& feather, const DomeRig& rig, ViewSpec view, int height,
+                                   const Feather& feather, const DomeRig& rig, ViewSpec view, int size,
                                    const FidelitySettings& settings) {
   PhotoComparison c;
   c.settings = settings;
-  c.crop = crop_for(layout, picked, height);
+  c.crop = crop_for(layout, picked, size);
   if (photo.width != layout.image_width || photo.height != layout.image_height)
     throw Error("the photo is " + std::to_string(photo.width) + "x" + std::to_string(photo.height) +
                 " but its layout was made from a " + std::to_string(layout.image_width) + "x" +

@@ -42,8 +42,8 @@ Footprint footprints(double origin, double step, int n, int size) {
 
 }  // namespace
 
-PhotoCrop crop_for(const Layout& layout, const FeatherLayout& feather, int height, double margin) {
-  if (height < 16) throw Error("the panels must be at least 16 pixels high");
+PhotoCrop crop_for(const Layout& layout, const FeatherLayout& feather, int size, double margin) {
+  if (size < 16) throw Error("the panels must be at least 16 pixels on their longer side");
   const auto& b = feather.bbox_px;
   const double m = std::max(8.0, margin * std::max(b[2], b[3]));
   const double x0 = std::max(0.0, b[0] - m), y0 = std::max(0.0, b[1] - m);
@@ -53,11 +53,11 @@ PhotoCrop crop_for(const Layout& layout, const FeatherLayout& feather, int heigh
     throw Error("feather " + std::to_string(feather.id) + ": its bounding box lies outside the " +
                 std::to_string(layout.image_width) + "x" + std::to_string(layout.image_height) + " photo");
   PhotoCrop c;
-  c.height = height;
-  c.px_per_panel_px = (y1 - y0) / height;
-  c.width = std::max(16, int(std::lround((x1 - x0) / c.px_per_panel_px)));
-  // Centred on the box: the panel's width is a whole number of pixels.
-  c.origin_px = {0.5 * (x0 + x1) - 0.5 * c.width * c.px_per_panel_px, y0};
+  c.px_per_panel_px = std::max(x1 - x0, y1 - y0) / size;
+  c.width = std::max(8, int(std::lround((x1 - x0) / c.px_per_panel_px)));
+  c.height = std::max(8, int(std::lround((y1 - y0) / c.px_per_panel_px)));
+  // Centred on the box: the panel's sides are whole numbers of pixels.
+  c.origin_px = 0.5 * glm::dvec2(x0 + x1, y0 + y1) - 0.5 * c.px_per_panel_px * glm::dvec2(c.width, c.height);
   return c;
 }
 

@@ -38,7 +38,7 @@ Image gaussian_blur(const Image& img, float sigma);
 struct MeasuredPanel {
   Image blurred;                // linear RGB
   glm::vec3 backdrop{0};        // the given one, or the per-channel median of the outermost pixel ring (compared pixels left out)
-  std::vector<char> feather;    // 1 = feather (only where the region is compared)
+  std::vector<char> feather;    // 1 = feather (only where the region is compared), holes filled
 };
 MeasuredPanel measure_panel(const Image& panel, const PanelRegions& regions, const FidelitySettings& settings,
                             std::optional<glm::vec3> backdrop = std::nullopt);

@@ -49,11 +49,12 @@ struct PhotoComparison {
   std::vector<RenderFidelity> fidelity;  // hair, substructure
 };
 
-// `view` gives the sampling, lights and threads; its size, camera, exposure and
-// base folder are set here (panel `height` pixels high, the crop's camera, the
-// card developed to the photo's background, textures next to `albedo_dir`).
+// `view` gives the sampling, lights, threads and the folder the feather's texture
+// path is relative to; its size, camera and exposure are set here (panels `size`
+// pixels along their longer side, the crop's camera, the card developed to the
+// photo's background colour).
 PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, const FeatherLayout& picked,
-                                   const Feather& feather, const DomeRig& rig, ViewSpec view, int height,
+                                   const Feather& feather, const DomeRig& rig, ViewSpec view, int size,
                                    const FidelitySettings& settings = {});
 
 // photo | hair | substructure, labelled.

@@ -20,9 +20,10 @@ struct PhotoCrop {
 };
 
 // The picked feather's bounding box grown by `margin` (a fraction of its larger
-// side, at least 8 photo pixels), kept inside the photo, shown `height` pixels high.
-// Throws plumage::Error for a height below 16 or a feather outside the photo.
-PhotoCrop crop_for(const Layout& layout, const FeatherLayout& feather, int height, double margin = 0.06);
+// side, at least 8 photo pixels), kept inside the photo, shown with `size` pixels
+// along its longer side. Throws plumage::Error for a size below 16 or a feather
+// outside the photo.
+PhotoCrop crop_for(const Layout& layout, const FeatherLayout& feather, int size, double margin = 0.06);
 
 // The crop resampled to the panel: each panel pixel the area-weighted mean of the
 // photo over its footprint.
