@@ -60,7 +60,8 @@ done
 # Render noise on the pink photo: the same command with --seed 2.
 pink=pink-contour-feather
 if [ -f "$out/$pink/summary.json" ]; then
-  "$build/plumage" -q photo-to-feather "$photos/$pink.jpg" -o "$out/$pink-seed2" --threads "$threads" --seed 2
+  "$build/plumage" -q photo-to-feather "$photos/$pink.jpg" -o "$out/$pink-seed2" --threads "$threads" --seed 2 \
+    2> "$out/seed2.log"
   oiiotool --diff "$out/$pink/comparison.png" "$out/$pink-seed2/comparison.png" > "$out/noise.txt" 2>&1 || true
 fi
 
@@ -99,7 +100,7 @@ if os.path.exists(noise) and os.path.exists(pink):
     s = json.load(open(pink))
     w, h = s["fidelity"]["panel"]["width"], s["fidelity"]["panel"]["height"]
     info = os.popen(f"oiiotool --info {os.path.join(out, 'pink-contour-feather', 'comparison.png')}").read()
-    W, H = (int(x) for x in re.search(r"(\d+) x (\d+)", info).groups())
+    W, H = (int(x) for x in re.search(r"(\d+)\s*x\s*(\d+)", info).groups())
     if rms:
         # The photo panel, labels and gaps are the same in both runs: the difference is in the two render panels only.
         render_rms = float(rms.group(1)) * math.sqrt(W * H / (2.0 * w * h))

@@ -89,7 +89,7 @@ Image fidelity_image(const PhotoComparison& c) {
     tiles.push_back({mask_picture(c.measured[0], c.measured[i], c.regions),
                      c.panels[i].label + ": silhouettes (red photo only, blue render only)"});
     tiles.push_back({difference_picture(c.measured[0], c.measured[i], c.regions),
-                     c.panels[i].label + ": pixel dE2000 (white >= 20)"});
+                     c.panels[i].label + ": pixel dE2000, white at 20 and above"});
   }
   return contact_sheet(tiles, 2, "fidelity against the photo");
 }
