@@ -95,14 +95,28 @@ Image gaussian_blur(const Image& img, float sigma) {
   return out;
 }
 
-namespace {
-
-float median(std::vector<float>& v) {
-  if (v.empty()) return 0;
-  auto mid = v.begin() + std::ptrdiff_t(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
+std::optional<glm::vec3> ring_median(const Image& img,
+                                     const std::function<bool(int x, int y, const glm::vec3& c)>& keep,
+                                     std::size_t min_count) {
+  std::vector<float> ring[3];
+  const auto take = [&](int x, int y) {
+    const glm::vec3 c = img.rgb(x, y);
+    if (!keep(x, y, c)) return;
+    for (int k = 0; k < 3; ++k) ring[k].push_back(c[k]);
+  };
+  for (int x = 0; x < img.width; ++x) take(x, 0), take(x, img.height - 1);
+  for (int y = 1; y + 1 < img.height; ++y) take(0, y), take(img.width - 1, y);
+  if (ring[0].empty() || ring[0].size() < min_count) return std::nullopt;
+  glm::vec3 m;
+  for (int k = 0; k < 3; ++k) {
+    auto mid = ring[k].begin() + std::ptrdiff_t(ring[k].size() / 2);
+    std::nth_element(ring[k].begin(), mid, ring[k].end());
+    m[k] = *mid;
+  }
+  return m;
 }
+
+namespace {
 
 void check_size(const Image& img, const PanelRegions& regions) {
   if (img.width != regions.width || img.height != regions.height || regions.side.size() != std::size_t(img.width) * img.height)
@@ -119,19 +133,13 @@ MeasuredPanel measure_panel(const Image& panel, const PanelRegions& regions, con
   MeasuredPanel m;
   m.blurred = gaussian_blur(panel, settings.blur_sigma_px);
   const int w = panel.width, h = panel.height;
-  std::vector<float> ring[3];
-  const auto take = [&](int x, int y, bool all) {
-    if (!all && regions.at(x, y)) return;
-    const glm::vec3 c = m.blurred.rgb(x, y);
-    for (int k = 0; k < 3; ++k) ring[k].push_back(c[k]);
-  };
-  for (bool all : {false, true}) {  // the whole ring only when the region covers all of it
-    for (int x = 0; x < w; ++x) take(x, 0, all), take(x, h - 1, all);
-    for (int y = 1; y + 1 < h; ++y) take(0, y, all), take(w - 1, y, all);
-    if (!ring[0].empty()) break;
+  if (backdrop) {
+    m.backdrop = *backdrop;
+  } else {
+    // The ring outside the compared region; all of it when the region covers it.
+    const auto outside = ring_median(m.blurred, [&](int x, int y, const glm::vec3&) { return !regions.at(x, y); });
+    m.backdrop = outside ? *outside : *ring_median(m.blurred, [](int, int, const glm::vec3&) { return true; });
   }
-  for (int k = 0; k < 3; ++k) m.backdrop[k] = median(ring[k]);
-  if (backdrop) m.backdrop = *backdrop;
   const glm::vec3 backdrop_lab = linear_rgb_to_lab(m.backdrop);
   m.feather.assign(std::size_t(w) * h, 0);
   for (int y = 0; y < h; ++y)

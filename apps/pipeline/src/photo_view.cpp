@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 
 #include "plumage/common/error.h"
 
@@ -109,35 +108,15 @@ CameraSpec crop_camera(const FeatherLayout& f, const PhotoCrop& crop) {
   return c;
 }
 
-namespace {
-glm::vec3 ring_median(const Image& img, const std::function<bool(const glm::vec3&)>& keep) {
-  std::vector<float> ring[3];
-  const auto take = [&](int x, int y) {
-    const glm::vec3 c = img.rgb(x, y);
-    if (!keep(c)) return;
-    for (int k = 0; k < 3; ++k) ring[k].push_back(c[k]);
-  };
-  for (int x = 0; x < img.width; ++x) take(x, 0), take(x, img.height - 1);
-  for (int y = 1; y + 1 < img.height; ++y) take(0, y), take(img.width - 1, y);
-  const std::size_t all = 2 * std::size_t(img.width) + 2 * std::size_t(std::max(0, img.height - 2));
-  if (ring[0].size() < std::max<std::size_t>(8, all / 10)) return glm::vec3(-1);
-  glm::vec3 colour(0);
-  for (int k = 0; k < 3; ++k) {
-    auto mid = ring[k].begin() + std::ptrdiff_t(ring[k].size() / 2);
-    std::nth_element(ring[k].begin(), mid, ring[k].end());
-    colour[k] = std::max(*mid, 1e-3f);
-  }
-  return colour;
-}
-}  // namespace
-
 glm::vec3 background_colour(const Image& photo, const Image& photo_panel) {
-  const glm::vec3 whole = ring_median(photo, [](const glm::vec3&) { return true; });
+  const glm::vec3 whole = *ring_median(photo, [](int, int, const glm::vec3&) { return true; });
   const glm::vec3 whole_lab = linear_rgb_to_lab(whole);
-  const glm::vec3 local = ring_median(photo_panel, [&](const glm::vec3& c) {
-    return ciede2000(linear_rgb_to_lab(c), whole_lab) < kBackgroundDe;
-  });
-  return local.x >= 0 ? local : whole;
+  const std::size_t ring = 2 * std::size_t(photo_panel.width) + 2 * std::size_t(std::max(0, photo_panel.height - 2));
+  const auto local = ring_median(
+      photo_panel,
+      [&](int, int, const glm::vec3& c) { return ciede2000(linear_rgb_to_lab(c), whole_lab) < kBackgroundDe; },
+      std::max<std::size_t>(8, ring / 10));
+  return glm::max(local ? *local : whole, glm::vec3(1e-3f));
 }
 
 BackdropSpec photo_backdrop(const glm::vec3& colour, const FeatherLayout& f, const PhotoCrop& crop,

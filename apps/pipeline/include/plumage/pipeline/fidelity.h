@@ -3,6 +3,7 @@
 // measured on panels that overlay pixel for pixel (photo_view.h): silhouette IoU
 // and colour difference (CIE ΔE 2000), for the whole feather and per vane.
 // Every metric is defined in docs/analysis.md, "Fidelity".
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -30,6 +31,12 @@ struct PanelRegions {
 glm::vec3 linear_rgb_to_lab(const glm::vec3& rgb);
 // CIE ΔE 2000 (Sharma, Wu & Dalal 2005) between two CIELAB colours.
 double ciede2000(const glm::vec3& lab1, const glm::vec3& lab2);
+
+// Per-channel median of the image's outermost ring of pixels, over those for which
+// keep(x, y, colour) holds; nothing when fewer than `min_count` do.
+std::optional<glm::vec3> ring_median(const Image& img,
+                                     const std::function<bool(int x, int y, const glm::vec3& c)>& keep,
+                                     std::size_t min_count = 1);
 
 // Separable Gaussian of standard deviation `sigma` pixels (edges clamped); RGB out.
 Image gaussian_blur(const Image& img, float sigma);
