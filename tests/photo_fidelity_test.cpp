@@ -16,7 +16,11 @@
 #include "plumage/common/error.h"
 #include "plumage/pipeline/fidelity.h"
 #include "plumage/pipeline/photo_view.h"
+#include "plumage/generator/analysis/analyze.h"
+#include "plumage/generator/layout_to_params.h"
 #include "plumage/renderer/camera.h"
+#include "plumage/renderer/substructure.h"
+#include "synthetic_feather.h"
 
 using namespace plumage;
 namespace fs = std::filesystem;
@@ -189,6 +193,52 @@ TEST(Fidelity, SilhouettesHaveNoHolesButKeepGapsOpenToTheEdge) {
 TEST(Fidelity, PanelsOfAnotherSizeAreRefused) {
   const PanelRegions regions = everywhere(50, 40, 25);
   EXPECT_THROW(measure_panel(Image(40, 40, 3), regions, {}), Error);
+}
+
+TEST(ClosedVane, EveryBarbOfAPhotoFeatherIsCoveredAndTheRibbonsOverlap) {
+  // A feather analysed from a drawn photo, built as generate --layout builds it.
+  synthetic::SyntheticFeather sf;
+  sf.width = 450, sf.height = 350, sf.calamus = {125, 320}, sf.length = 280;
+  sf.w_left = 30, sf.w_right = 48, sf.spacing = 6;
+  const fs::path dir = fs::temp_directory_path() / ("plumage_closed_vane_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  write_image(dir / "photo.png", sf.draw());
+  AnalyzeOptions ao;
+  ao.mm_per_px = 0.2;
+  const PhotoAnalysis a = analyze_photo(dir / "photo.png", ao);
+  FeatherLayout layout = a.layout.feathers.front();
+  layout.albedo.file.clear();  // geometry only
+  const Feather f = layout_to_feather(layout, 1, dir, dir);
+  fs::remove_all(dir);
+  for (VaneSide side : {VaneSide::Left, VaneSide::Right}) {
+    const SubstructureParams& p = f.substructure(side);
+    // The ribbons reach over the gap between neighbouring barbs ...
+    EXPECT_NEAR(p.ribbon_width, kBarbOverlap * barb_gap_mm(f, side), 1e-4) << to_string(side);
+    EXPECT_GT(p.ribbon_width, barb_gap_mm(f, side));
+    // ... and barbules cover every barb's ribbon (control polygon >= arc length), so
+    // the substructure albedo correction 1 - (1 - A) / coverage is the identity.
+    const BarbSubstructure sub(p, side);
+    int barbs = 0;
+    for (const Curve& c : f.curves) {
+      if (c.kind != CurveKind::Barb || c.side != side) continue;
+      double length = 0;
+      for (std::size_t i = 1; i < c.points.size(); ++i) length += glm::length(c.points[i].p - c.points[i - 1].p);
+      EXPECT_DOUBLE_EQ(sub.covered_fraction(length), 1.0);
+      ++barbs;
+    }
+    EXPECT_GT(barbs, 10);
+    // With 10 % fewer barbules the longest barb is no longer covered.
+    SubstructureParams fewer = p;
+    fewer.barbules_per_side = int(p.barbules_per_side / 1.12);
+    double longest = 0;
+    for (const Curve& c : f.curves)
+      if (c.kind == CurveKind::Barb && c.side == side) {
+        double length = 0;
+        for (std::size_t i = 1; i < c.points.size(); ++i) length += glm::length(c.points[i].p - c.points[i - 1].p);
+        longest = std::max(longest, length);
+      }
+    EXPECT_LT(BarbSubstructure(fewer, side).covered_fraction(longest), 1.0);
+  }
 }
 
 // Issue 12's bounds on real photos, at a smaller panel and fewer samples than the
