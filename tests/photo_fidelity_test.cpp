@@ -105,6 +105,33 @@ TEST(PhotoView, MirroredTransformIsRefused) {
   }
 }
 
+TEST(PhotoView, RegionsFollowTheOutlineAndTheShaftSplitsTheVanes) {
+  // Shaft up the image at u = 200 (feather x = 0.25 (u - 200), y = 0.25 (250 - v)),
+  // outline the rectangle u in [170, 240], v in [90, 250].
+  Layout layout;
+  layout.image_width = 400, layout.image_height = 300;
+  FeatherLayout f;
+  f.feather_from_image = glm::dmat3x2(glm::dvec2(0.25, 0), glm::dvec2(0, -0.25), glm::dvec2(-50, 62.5));
+  f.bbox_px = {170, 90, 70, 160};
+  f.outline_px = {{170, 90}, {240, 90}, {240, 250}, {170, 250}};
+  for (double y : {-10.0, 0.0, 10.0, 20.0, 30.0, 40.0, 50.0}) f.shaft_mm.control_points().push_back({0.0, y});
+  const PhotoCrop crop = crop_for(layout, f, 200);
+  const PanelRegions r = crop_regions(f, crop, 3);
+  const auto at = [&](double u, double v) {
+    const glm::dvec2 p = (glm::dvec2(u, v) - crop.origin_px) / crop.px_per_panel_px;
+    return int(r.at(int(p.x), int(p.y)));
+  };
+  EXPECT_EQ(at(180, 170), 1);  // left of the shaft: the left vane (seen dorsally, tip up)
+  EXPECT_EQ(at(230, 170), 2);
+  EXPECT_EQ(at(199, 100), 1);
+  EXPECT_EQ(at(201, 100), 2);
+  // Grown by 3 panel pixels (0.9 photo px each): 1.5 photo px out is in, 5 px out is not.
+  EXPECT_NE(at(168.5, 170), 0);
+  EXPECT_EQ(at(165, 170), 0);
+  EXPECT_EQ(at(200, 255), 0);
+  EXPECT_NE(at(200, 251.5), 0);
+}
+
 TEST(PhotoView, CropAveragesThePhotoOverEachPanelPixel) {
   // A photo of vertical stripes 1 px wide (0 and 1): panel pixels 2 photo pixels wide average 0.5.
   Image photo(64, 32, 3);
