@@ -58,25 +58,12 @@ int run_compare(const Options& o) {
     if (!global_options().quiet) std::cerr << "wrote " << o.output << "\n";
     return 0;
   }
-  // Both scenes first: a bad substructure parameter fails before anything renders.
-  so.mode = ShadingMode::Hair;
-  const Scene hair(feather, so);
-  so.mode = ShadingMode::Substructure;
-  const Scene substructure(feather, so);
-  const std::pair<const Scene*, const char*> modes[] = {{&hair, "hair"}, {&substructure, "substructure"}};
-  const std::vector<int> leds = parse_light_selection(view.lights, int(rig.leds.size()));
-  if (leds.empty()) throw Error("--light-sequence with --lights none: no LED to switch on");
   FileBatch outputs;  // one sheet per shading mode: both or neither
   std::vector<std::filesystem::path> written;
-  for (const auto& [scene, name] : modes) {
-    std::vector<Panel> tiles;
-    for (int led : leds) {
-      ViewSpec one = view;
-      one.lights = std::to_string(led + 1);
-      tiles.push_back({render_view(*scene, rig, one), "LED " + std::to_string(led + 1)});
-    }
+  for (const Panel& sheet : light_sequence_sheets(feather, so, rig, view, o.columns)) {
+    const std::string& name = sheet.label;
     const std::filesystem::path out = with_suffix(o.output, std::string("_") + name);
-    write_image(outputs, out, contact_sheet(tiles, o.columns, std::string(name) + ": one LED at a time"));
+    write_image(outputs, out, sheet.image);
     written.push_back(out);
   }
   outputs.commit();

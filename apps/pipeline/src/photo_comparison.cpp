@@ -39,6 +39,28 @@ std::vector<Panel> render_both_modes(const Feather& feather, SceneOptions scene,
   return panels;
 }
 
+std::vector<Panel> light_sequence_sheets(const Feather& feather, SceneOptions scene, const DomeRig& rig,
+                                         const ViewSpec& view, int columns) {
+  // Both scenes first: a bad substructure parameter fails before anything renders.
+  scene.mode = ShadingMode::Hair;
+  const Scene hair(feather, scene);
+  scene.mode = ShadingMode::Substructure;
+  const Scene substructure(feather, scene);
+  const std::vector<int> leds = parse_light_selection(view.lights, int(rig.leds.size()));
+  if (leds.empty()) throw Error("--light-sequence with --lights none: no LED to switch on");
+  std::vector<Panel> sheets;
+  for (const auto& [s, name] : {std::pair<const Scene*, std::string>{&hair, "hair"}, {&substructure, "substructure"}}) {
+    std::vector<Panel> tiles;
+    for (int led : leds) {
+      ViewSpec one = view;
+      one.lights = std::to_string(led + 1);
+      tiles.push_back({render_view(*s, rig, one), "LED " + std::to_string(led + 1)});
+    }
+    sheets.push_back({contact_sheet(tiles, columns, name + ": one LED at a time"), name});
+  }
+  return sheets;
+}
+
 namespace {
 Bounds3f control_point_bounds(const Feather& feather) {
   Bounds3f b;

@@ -38,6 +38,13 @@ Feather generate_from_layout(const FeatherLayout& layout, std::uint64_t seed, co
 std::vector<Panel> render_both_modes(const Feather& feather, SceneOptions scene, const DomeRig& rig,
                                      const ViewSpec& view);
 
+// One dome LED at a time (the paper's Fig. 5): per shading mode a contact sheet of
+// labelled tiles in rows of `columns`, titled "MODE: one LED at a time"; each
+// returned panel is a sheet labelled with its mode ("hair", "substructure").
+// Throws plumage::Error when view.lights selects no LED.
+std::vector<Panel> light_sequence_sheets(const Feather& feather, SceneOptions scene, const DomeRig& rig,
+                                         const ViewSpec& view, int columns);
+
 // The photo, cropped around the picked feather, and the feather's renders in the
 // same pose (photo_view.h), with their fidelity against the photo.
 struct PhotoComparison {
