@@ -17,6 +17,7 @@
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
 #include "plumage/renderer/feather_render.h"
+#include "plumage/pipeline/photo_comparison.h"
 #include "plumage/renderer/panel_layout.h"
 
 namespace plumage::cli {
@@ -47,36 +48,22 @@ int run_compare(const Options& o) {
   Image photo;
   if (!o.photo.empty()) photo = read_image(o.photo);
 
-  // Both scenes first: a bad substructure parameter fails before anything renders.
-  // With --cull both leave out the same curves: those no panel's camera and LEDs need.
+  // With --cull both modes leave out the same curves: those no panel's camera and LEDs need.
   SceneOptions so = o.view.scene_options(view, rig);
-  so.mode = ShadingMode::Hair;
-  const Scene hair(feather, so);
-  so.mode = ShadingMode::Substructure;
-  const Scene substructure(feather, so);
-  const std::pair<const Scene*, const char*> modes[] = {{&hair, "hair"}, {&substructure, "substructure"}};
-
   if (!o.light_sequence) {
     std::vector<Panel> panels;
     if (!photo.empty()) panels.push_back({scale_to_height(photo, view.height), "photo"});
-    for (const auto& [scene, name] : modes) panels.push_back({render_view(*scene, rig, view), name});
+    for (Panel& p : render_both_modes(feather, so, rig, view)) panels.push_back(std::move(p));
     write_image(o.output, side_by_side(panels));
     if (!global_options().quiet) std::cerr << "wrote " << o.output << "\n";
     return 0;
   }
-  const std::vector<int> leds = parse_light_selection(view.lights, int(rig.leds.size()));
-  if (leds.empty()) throw Error("--light-sequence with --lights none: no LED to switch on");
   FileBatch outputs;  // one sheet per shading mode: both or neither
   std::vector<std::filesystem::path> written;
-  for (const auto& [scene, name] : modes) {
-    std::vector<Panel> tiles;
-    for (int led : leds) {
-      ViewSpec one = view;
-      one.lights = std::to_string(led + 1);
-      tiles.push_back({render_view(*scene, rig, one), "LED " + std::to_string(led + 1)});
-    }
+  for (const Panel& sheet : light_sequence_sheets(feather, so, rig, view, o.columns)) {
+    const std::string& name = sheet.label;
     const std::filesystem::path out = with_suffix(o.output, std::string("_") + name);
-    write_image(outputs, out, contact_sheet(tiles, o.columns, std::string(name) + ": one LED at a time"));
+    write_image(outputs, out, sheet.image);
     written.push_back(out);
   }
   outputs.commit();

@@ -15,6 +15,7 @@
 #include "plumage/generator/layout_to_params.h"
 #include "plumage/generator/presets.h"
 #include "plumage/generator/preview.h"
+#include "plumage/pipeline/photo_comparison.h"
 
 namespace plumage::cli {
 namespace {
@@ -40,16 +41,9 @@ int run_generate_from_layout(const GenerateArgs& a) {
   const Layout layout = read_layout(a.layout);
   const FeatherLayout& f = pick_feather(layout, a.feather, a.layout);
   std::vector<std::string> warnings;
-  const std::filesystem::path out_dir = std::filesystem::path(a.output).parent_path();
-  // The renderable albedo (mask filled) goes next to the curve file: NAME.albedo.png.
-  const std::filesystem::path texture = std::filesystem::path(a.output).replace_extension(".albedo.png");
   FileBatch outputs;  // the curves, their albedo texture and the preview: all or none
   const Feather feather =
-      layout_to_feather_with_albedo(f, a.seed, std::filesystem::path(a.layout).parent_path(),
-                                    out_dir.empty() ? "." : out_dir, texture, a.layout, &warnings, &outputs);
-  validate_feather(feather);
-  write_fcurves(outputs, a.output, feather);
-  if (!a.preview.empty()) write_image(outputs, a.preview, render_preview(feather, PreviewOptions{a.preview_size, true}));
+      generate_from_layout(f, a.seed, a.layout, a.output, a.preview, a.preview_size, outputs, &warnings);
   outputs.commit();
   for (const auto& w : warnings) std::cerr << "warning: " << a.layout << ": feather " << f.id << ": " << w << "\n";
   if (!global_options().quiet) {

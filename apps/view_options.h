@@ -75,40 +75,14 @@ struct ViewOptions {
   // `resolution_help` and `lights_help` say what the size and the LEDs mean for the command.
   void add_to(CLI::App& app, const std::string& resolution_help, const std::string& lights_help) {
     app.add_option("--resolution", resolution, resolution_help)->capture_default_str()->check(cli::resolution());
-    app.add_option("--spp", spp, "Samples per pixel (a power of two suits the Sobol sampler)")
-        ->capture_default_str()
-        ->check(in_range(1, kMaxSpp));
-    app.add_option("--allocation", allocation,
-                   "How samples spread over pixels: variance (a pilot of spp/4, the rest where the noise is; "
-                   "unbiased) or uniform (spp everywhere); docs/skip-work.md")
-        ->capture_default_str()
-        ->check(one_of(kSampleAllocations));
-    app.add_flag("--adaptive", adaptive, "Adaptive sampling: a pixel stops once converged (--spp is the cap; docs/skip-work.md)");
-    app.add_option("--target-error", target_error, "With --adaptive: relative standard error of a pixel's mean at which it stops")
-        ->capture_default_str()
-        ->check(positive(1));
-    app.add_option("--min-spp", min_spp, "With --adaptive: samples every pixel takes before it may stop")
-        ->capture_default_str()
-        ->check(in_range(1, kMaxSpp));
+    add_sampling_to(app, lights_help);
     app.add_flag("--cull", cull, "Leave out of the BVH curves that can neither be seen nor shadow what is seen (docs/skip-work.md)");
-    app.add_option("--seed", seed, "Random seed; the same seed gives the same image at any --threads")->capture_default_str();
-    app.add_option("--max-depth", max_depth, "Maximum scattering events per path (1 = direct light only)")
-        ->capture_default_str()
-        ->check(in_range(0, 1024));
     app.add_option("--exposure", exposure, "Exposure in stops: pixels are scaled by 2^exposure")
         ->capture_default_str()
         ->check(in_range(-64, 64));
-    app.add_option("--lights", lights, lights_help)->capture_default_str();
-    app.add_option("--light-pick", light_pick,
-                   "Next-event estimation's choice of light: estimate (in proportion to each light's "
-                   "estimated contribution), uniform, or all (every light at every vertex); docs/rendering.md")
-        ->capture_default_str()
-        ->check(one_of(kLightPicks));
-    app.add_option("--rig", rig, "Light rig JSON file")->capture_default_str();
     app.add_option("--backdrop", backdrop, "Card under the feather: white (albedo 0.8), black (0.03) or none")
         ->capture_default_str()
         ->check(one_of({"white", "black", "none"}));
-    app.add_option("--threads", threads, "Worker threads (0 = all cores)")->capture_default_str()->check(in_range(0, kMaxThreads));
     app.add_option("--projection", projection, "perspective or orthographic")
         ->capture_default_str()
         ->check(one_of({"perspective", "orthographic"}));
@@ -125,11 +99,41 @@ struct ViewOptions {
         ->check(in_range(0, 10));
   }
 
-  // Everything but the lights beyond the LEDs and the material, which the command adds.
-  ViewSpec view_spec(const std::filesystem::path& curve_file, bool progress) const {
+  // The options of how a view is sampled and lit, without its size, camera,
+  // exposure and card: for a command that sets those itself (photo-to-feather).
+  void add_sampling_to(CLI::App& app, const std::string& lights_help) {
+    app.add_option("--spp", spp, "Samples per pixel (a power of two suits the Sobol sampler)")
+        ->capture_default_str()
+        ->check(in_range(1, kMaxSpp));
+    app.add_option("--allocation", allocation,
+                   "How samples spread over pixels: variance (a pilot of spp/4, the rest where the noise is; "
+                   "unbiased) or uniform (spp everywhere); docs/skip-work.md")
+        ->capture_default_str()
+        ->check(one_of(kSampleAllocations));
+    app.add_flag("--adaptive", adaptive, "Adaptive sampling: a pixel stops once converged (--spp is the cap; docs/skip-work.md)");
+    app.add_option("--target-error", target_error, "With --adaptive: relative standard error of a pixel's mean at which it stops")
+        ->capture_default_str()
+        ->check(positive(1));
+    app.add_option("--min-spp", min_spp, "With --adaptive: samples every pixel takes before it may stop")
+        ->capture_default_str()
+        ->check(in_range(1, kMaxSpp));
+    app.add_option("--seed", seed, "Random seed; the same seed gives the same image at any --threads")->capture_default_str();
+    app.add_option("--max-depth", max_depth, "Maximum scattering events per path (1 = direct light only)")
+        ->capture_default_str()
+        ->check(in_range(0, 1024));
+    app.add_option("--lights", lights, lights_help)->capture_default_str();
+    app.add_option("--light-pick", light_pick,
+                   "Next-event estimation's choice of light: estimate (in proportion to each light's "
+                   "estimated contribution), uniform, or all (every light at every vertex); docs/rendering.md")
+        ->capture_default_str()
+        ->check(one_of(kLightPicks));
+    app.add_option("--rig", rig, "Light rig JSON file")->capture_default_str();
+    app.add_option("--threads", threads, "Worker threads (0 = all cores)")->capture_default_str()->check(in_range(0, kMaxThreads));
+  }
+
+  // Everything add_sampling_to's options set; size, camera, exposure and base folder left at their defaults.
+  ViewSpec sampling_spec(bool progress) const {
     ViewSpec v;
-    if (!parse_resolution(resolution, v.width, v.height))
-      throw Error("--resolution '" + resolution + "': give " + resolution_form);
     v.spp = spp;
     v.adaptive = adaptive;
     v.allocation = parse_sample_allocation(allocation);
@@ -138,11 +142,19 @@ struct ViewOptions {
     v.seed = seed;
     if (max_depth < 0) throw Error("--max-depth must be 0 or more");
     v.max_depth = max_depth;
-    v.exposure = exposure;
     v.lights = lights;
     v.light_pick = parse_light_pick(light_pick);
     v.threads = threads;
     v.progress = progress;
+    return v;
+  }
+
+  // Everything but the lights beyond the LEDs and the material, which the command adds.
+  ViewSpec view_spec(const std::filesystem::path& curve_file, bool progress) const {
+    ViewSpec v = sampling_spec(progress);
+    if (!parse_resolution(resolution, v.width, v.height))
+      throw Error("--resolution '" + resolution + "': give " + resolution_form);
+    v.exposure = exposure;
     v.base_dir = curve_file.parent_path();
     if (projection == "perspective") v.camera.projection = Projection::Perspective;
     else if (projection == "orthographic") v.camera.projection = Projection::Orthographic;

@@ -398,7 +398,7 @@ TEST_F(HostileCli, CommandLineUsage) {
     cases.push_back({"analyze {d}/photo.png -o {o}/out.json --feather " + std::string(v), 2});
     cases.push_back({"photo-to-feather {d}/photo.png -o {o}/ptf --mm-per-px " + std::string(v), 2});
     cases.push_back({"photo-to-feather {d}/photo.png -o {o}/ptf --spp " + std::string(v), 2});
-    cases.push_back({"photo-to-feather {d}/photo.png -o {o}/ptf --height " + std::string(v), 2});
+    cases.push_back({"photo-to-feather {d}/photo.png -o {o}/ptf --size " + std::string(v), 2});
     cases.push_back({"generate --preset rock-dove-wing -o {o}/out.fcurves --preview-size " + std::string(v), 2});
   }
   cases.push_back({"generate --preset rock-dove-wing -o {o}/out.fcurves --preview-size 99999", 2});

@@ -61,7 +61,7 @@ const std::set<std::string> kArtifacts = {"layout.json",     "overlay.png",     
 TEST_F(PhotoToFeather, SyntheticPhotoGivesEveryArtifactAndASummary) {
   const std::string photo = synthetic_photo();
   const CliResult r =
-      plumage_cli("photo-to-feather " + photo + " -o " + path("out") + " --mm-per-px 0.2 --spp 1 --height 70");
+      plumage_cli("photo-to-feather " + photo + " -o " + path("out") + " --mm-per-px 0.2 --spp 1 --size 90");
   ASSERT_EQ(r.rc, 0) << r.output;
   EXPECT_EQ(files_in(dir_ / "out"), kArtifacts);
   // One line per stage, starting with its name.
@@ -92,12 +92,22 @@ TEST_F(PhotoToFeather, SyntheticPhotoGivesEveryArtifactAndASummary) {
   for (const auto& f : s.at("files")) listed.insert(f.get<std::string>());
   EXPECT_EQ(listed, kArtifacts);
 
-  // Three panels, each as wide as the photo's aspect at the panel height.
+  // Three panels of the feather's crop, 90 pixels along its longer side, measured.
+  const nlohmann::json& fid = s.at("fidelity");
+  const int panel_w = fid.at("panel").at("width"), panel_h = fid.at("panel").at("height");
+  EXPECT_EQ(std::max(panel_w, panel_h), 90);
+  EXPECT_EQ(s.at("render").at("panel_width"), panel_w);
   const Image cmp = read_image(dir_ / "out" / "comparison.png");
-  const int panel_w = int(std::lround(70.0 * 450 / 350));
-  EXPECT_GE(cmp.width, 3 * panel_w);
-  // (label strips may widen a narrow panel, never narrow it)
-  EXPECT_GT(cmp.height, 70);
+  EXPECT_GE(cmp.width, 3 * panel_w);  // label strips may widen a narrow panel, never narrow it
+  EXPECT_GT(cmp.height, panel_h);
+  for (const char* panel : {"hair", "substructure"})
+    for (const char* part : {"feather", "left", "right"}) {
+      const double iou = fid.at(panel).at(part).at("silhouette_iou");
+      EXPECT_GT(iou, 0.0) << panel << " " << part;
+      EXPECT_LE(iou, 1.0) << panel << " " << part;
+      EXPECT_GE(fid.at(panel).at(part).at("mean_colour_de2000").get<double>(), 0.0);
+    }
+  EXPECT_GT(fid.at("hair").at("feather").at("photo_pixels").get<int>(), 100);
 }
 
 TEST_F(PhotoToFeather, SheetOfTwoSaysWhichFeatherItUsesAndHowToPick) {
@@ -115,7 +125,7 @@ TEST_F(PhotoToFeather, SheetOfTwoSaysWhichFeatherItUsesAndHowToPick) {
   write_image(path("sheet.png"), sheet);
 
   const CliResult r = plumage_cli("photo-to-feather " + path("sheet.png") + " -o " + path("out") +
-                                  " --mm-per-px 0.2 --spp 1 --height 40");
+                                  " --mm-per-px 0.2 --spp 1 --size 50");
   ASSERT_EQ(r.rc, 0) << r.output;
   EXPECT_NE(r.output.find("2 feathers found; using feather 1 (the leftmost); pick another with --feather K "
                           "(K in 1..2"),
@@ -128,7 +138,7 @@ TEST_F(PhotoToFeather, SheetOfTwoSaysWhichFeatherItUsesAndHowToPick) {
 
   // Picking one explicitly: no note, and the right-hand feather is used.
   const CliResult r2 = plumage_cli("photo-to-feather " + path("sheet.png") + " -o " + path("out2") +
-                                   " --mm-per-px 0.2 --spp 1 --height 40 --feather 2");
+                                   " --mm-per-px 0.2 --spp 1 --size 50 --feather 2");
   ASSERT_EQ(r2.rc, 0) << r2.output;
   EXPECT_EQ(r2.output.find("feathers found"), std::string::npos) << r2.output;
   s = nlohmann::json::parse(read_file(dir_ / "out2" / "summary.json"));
@@ -151,14 +161,17 @@ TEST_F(PhotoToFeather, UniformImageFailsInAnalyzeAndLeavesNothing) {
   EXPECT_EQ(files_in(dir_ / "keep"), std::set<std::string>{"mine.txt"});
 }
 
-TEST_F(PhotoToFeather, FailingCompareKeepsEarlierStagesOnly) {
+TEST_F(PhotoToFeather, ABadRigFailsBeforeAnyStage) {
+  // The rig is read before OUTDIR is touched: no stage runs, an existing folder stays as it was.
   const std::string photo = synthetic_photo();
+  fs::create_directories(dir_ / "out");
+  write_file_atomic(dir_ / "out" / "mine.txt", "x");
   const CliResult r = plumage_cli("photo-to-feather " + photo + " -o " + path("out") +
-                                  " --spp 1 --height 32 --rig " + path("no-such-rig.json"));
-  EXPECT_NE(r.rc, 0);
-  EXPECT_NE(r.output.find("stage 'compare' failed"), std::string::npos) << r.output;
-  EXPECT_EQ(files_in(dir_ / "out"), (std::set<std::string>{"layout.json", "overlay.png", "layout.feather1.albedo.png",
-                                                           "feather.fcurves", "feather.albedo.png", "preview.png"}));
+                                  " --spp 1 --size 32 --rig " + path("no-such-rig.json"));
+  EXPECT_EQ(r.rc, 1);
+  EXPECT_NE(r.output.find("no-such-rig.json"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("stage"), std::string::npos) << r.output;
+  EXPECT_EQ(files_in(dir_ / "out"), std::set<std::string>{"mine.txt"});
 }
 
 TEST_F(PhotoToFeather, BadArgumentsAreRefused) {
@@ -170,22 +183,37 @@ TEST_F(PhotoToFeather, BadArgumentsAreRefused) {
   EXPECT_NE(r.rc, 0);
   EXPECT_NE(r.output.find("not a folder"), std::string::npos) << r.output;
   EXPECT_NE(plumage_cli("photo-to-feather " + photo + " -o " + path("out") + " --spp 0").rc, 0);
+  // Every option is checked before OUTDIR is made: a missing rig, LEDs it does not have.
+  const CliResult rig = plumage_cli("photo-to-feather " + photo + " -o " + path("out") + " --rig " + path("none.json"));
+  EXPECT_NE(rig.rc, 0);
+  EXPECT_NE(rig.output.find("none.json"), std::string::npos) << rig.output;
+  const CliResult leds = plumage_cli("photo-to-feather " + photo + " -o " + path("out") + " --lights 99");
+  EXPECT_NE(leds.rc, 0);
+  EXPECT_EQ(plumage_cli("photo-to-feather " + photo + " -o " + path("out") + " --size 8").rc, 2);
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 
 TEST_F(PhotoToFeather, PinkContourFeather) {
   const fs::path photo = fs::path(PLUMAGE_SHARED_DIR) / "photos" / "pink-contour-feather.jpg";
   if (!fs::exists(photo)) GTEST_SKIP() << photo << " not present";
   const CliResult r = plumage_cli("photo-to-feather " + photo.string() + " -o " + path("pink") +
-                                  " --spp 1 --height 40");
+                                  " --spp 1 --size 120 --fidelity-image");
   ASSERT_EQ(r.rc, 0) << r.output;
-  EXPECT_EQ(files_in(dir_ / "pink"), kArtifacts);
+  std::set<std::string> with_fidelity = kArtifacts;
+  with_fidelity.insert("fidelity.png");
+  EXPECT_EQ(files_in(dir_ / "pink"), with_fidelity);
   const nlohmann::json s = nlohmann::json::parse(read_file(dir_ / "pink" / "summary.json"));
   EXPECT_EQ(s.at("feathers_found"), 1);
   EXPECT_GT(s.at("counts").at("barbs_left").get<int>(), 20);
   EXPECT_GT(s.at("counts").at("barbs_right").get<int>(), 20);
-  // The photo is 1920x623: the panels keep that aspect.
+  // The panels are the feather's crop (bounding box and margin), not the whole 1920x623 photo.
+  const nlohmann::json& panel = s.at("fidelity").at("panel");
+  EXPECT_EQ(panel.at("width"), 120);
+  EXPECT_LT(panel.at("photo_px_per_panel_px").get<double>() * 120, 1920.0);
   const Image cmp = read_image(dir_ / "pink" / "comparison.png");
-  EXPECT_GE(cmp.width, 3 * int(40 * 1920 / 623));
+  EXPECT_GE(cmp.width, 3 * 120);
+  const Image fid = read_image(dir_ / "pink" / "fidelity.png");
+  EXPECT_GE(fid.width, 2 * 120);
 }
 
 TEST_F(PhotoToFeather, GenerateFromTheLayoutItWrote) {

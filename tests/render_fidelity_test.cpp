@@ -21,7 +21,7 @@ TEST(RenderFidelity, PinkFeatherRendersPinkOnAWhiteCard) {
   const fs::path out = fs::temp_directory_path() / ("plumage_render_fidelity_test_" + std::to_string(::getpid()));
   fs::remove_all(out);
   const auto r = test::plumage_cli("-q photo-to-feather " + photo.string() + " -o " + out.string() +
-                                   " --height 120 --spp 8 --threads 2");
+                                   " --size 336 --spp 8 --threads 2");
   ASSERT_EQ(r.rc, 0) << r.output;
   const std::vector<Image> panels = test::split_panels(read_image(out / "comparison.png"));
   ASSERT_EQ(panels.size(), 3u) << "photo | hair | substructure";

@@ -241,6 +241,63 @@ void make_buildable(FeatherParams& p, std::vector<std::string>& warnings) {
 }
 }  // namespace
 
+namespace {
+// A barb's control polygon in the vane plane.
+std::vector<glm::dvec2> polygon(const Curve& c) {
+  std::vector<glm::dvec2> out;
+  for (const ControlPoint& p : c.points) out.push_back(glm::dvec2(p.p));
+  return out;
+}
+double distance_to(const glm::dvec2& p, const std::vector<glm::dvec2>& line) {
+  double best = 1e300;
+  for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+    const glm::dvec2 a = line[i], d = line[i + 1] - a;
+    const double t = std::clamp(glm::dot(p - a, d) / std::max(glm::dot(d, d), 1e-300), 0.0, 1.0);
+    best = std::min(best, glm::length(p - (a + t * d)));
+  }
+  return best;
+}
+}  // namespace
+
+double barb_gap_mm(const Feather& feather, VaneSide side) {
+  std::vector<std::vector<glm::dvec2>> barbs;
+  for (const Curve& c : feather.curves)
+    if (c.kind == CurveKind::Barb && c.side == side && c.points.size() >= 2) barbs.push_back(polygon(c));
+  std::vector<double> gaps;
+  for (std::size_t i = 0; i + 1 < barbs.size(); ++i) {
+    // Half-way along the barb: its root is at the shaft (no gap), its tip may end before the neighbour's.
+    const std::vector<glm::dvec2>& b = barbs[i];
+    const glm::dvec2 mid = 0.5 * (b[(b.size() - 1) / 2] + b[b.size() / 2]);
+    gaps.push_back(distance_to(mid, barbs[i + 1]));
+  }
+  if (gaps.empty()) return 0;
+  std::sort(gaps.begin(), gaps.end());
+  return gaps[std::min(gaps.size() - 1, std::size_t(kBarbGapQuantile * double(gaps.size())))];
+}
+
+void close_vane(Feather& feather, VaneSide side) {
+  SubstructureParams& s = feather.substructure(side);
+  const double gap = barb_gap_mm(feather, side);
+  if (gap > 0) {
+    s.ribbon_width = float(std::clamp(kBarbOverlap * gap, 4.0 * s.ramus_radius, 10.0));
+    s.ramus_radius = std::min(s.ramus_radius, 0.25f * s.ribbon_width);
+  }
+  double longest = 0;
+  for (const Curve& curve : feather.curves) {
+    if (curve.kind != CurveKind::Barb || curve.side != side) continue;
+    double length = 0;  // the control polygon: at least the curve's arc length
+    for (std::size_t i = 1; i < curve.points.size(); ++i) length += glm::length(curve.points[i].p - curve.points[i - 1].p);
+    longest = std::max(longest, length);
+  }
+  s.barbules_per_side = closing_barbule_count(longest, s);
+}
+
+int closing_barbule_count(double longest_barb_mm, const SubstructureParams& s) {
+  if (!(s.barbule_radius > 0) || !(longest_barb_mm > 0)) return s.barbules_per_side;
+  const double n = kBarbuleClosure * longest_barb_mm * std::sin(s.elevation_deg * kPi / 180.0) / (2.0 * s.barbule_radius);
+  return int(std::clamp(std::ceil(n), 1.0, 100000.0));
+}
+
 double barb_spacing_prior_mm(double length_mm) {
   return std::clamp(0.25 + 0.002 * length_mm, 0.25, 0.75);
 }
@@ -436,6 +493,7 @@ Feather layout_to_feather(const FeatherLayout& f, std::uint64_t seed, const std:
     feather.albedo.rect_min = glm::vec2(f.albedo.origin_mm.x, f.albedo.origin_mm.y - f.albedo.height_px * s);
     feather.albedo.rect_max = glm::vec2(f.albedo.origin_mm.x + f.albedo.width_px * s, f.albedo.origin_mm.y);
   }
+  for (VaneSide side : {VaneSide::Left, VaneSide::Right}) close_vane(feather, side);
   feather.provenance.source = "layout:" + source;
   feather.provenance.seed = seed;
   return feather;

@@ -36,6 +36,25 @@ inline constexpr double kLayoutMinConfidence = 0.5;
 // "Barb density": 0.25 mm + 0.2 % of the length, within [0.25, 0.75] mm).
 double barb_spacing_prior_mm(double length_mm);
 
+// The gap between neighbouring barbs of one vane of a built feather: for each
+// barb, the distance from the middle of its control polygon to the next barb's,
+// and of those the kBarbGapQuantile quantile (mm; 0 with fewer than two barbs).
+inline constexpr double kBarbGapQuantile = 0.75;
+double barb_gap_mm(const Feather& feather, VaneSide side);
+
+// Makes one vane of a built feather an intact (closed) pennaceous vane, where
+// each barb's distal barbules lie over the next barb's proximal ones
+// (docs/analysis.md, "Barbules"): the ribbon width W is kBarbOverlap times the
+// barb gap (the ramus radius at most W / 4), and the barbules per side close
+// the longest barb (closing_barbule_count). layout_to_feather does this.
+inline constexpr double kBarbOverlap = 1.3;
+void close_vane(Feather& feather, VaneSide side);
+
+// Barbules per side that cover a barb of `longest_barb_mm` across the whole ribbon
+// (DESIGN §5: covered when 2 r_b N / (L sin theta_b) >= 1), with kBarbuleClosure to spare.
+inline constexpr double kBarbuleClosure = 1.1;
+int closing_barbule_count(double longest_barb_mm, const SubstructureParams& s);
+
 // Throws plumage::Error naming `source` (the layout file) and the bad value when
 // the layout cannot describe a feather (no shaft length, stations out of order,
 // profiles of the wrong length, non-finite numbers).

@@ -1,0 +1,77 @@
+#pragma once
+// How closely a render reproduces the photographed feather it was made from,
+// measured on panels that overlay pixel for pixel (photo_view.h): silhouette IoU
+// and colour difference (CIE ΔE 2000), for the whole feather and per vane.
+// Every metric is defined in docs/analysis.md, "Fidelity".
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <nlohmann/json_fwd.hpp>
+
+#include "plumage/common/image.h"
+
+namespace plumage {
+
+struct FidelitySettings {
+  float blur_sigma_px = 1.0f;  // Gaussian blur of every panel before anything is measured
+  float mask_de = 10.0f;       // a pixel is feather where it is farther than this (ΔE 2000) from its backdrop
+};
+
+// Which pixels are compared, and on which side of the shaft they lie:
+// 0 = not compared (outside the picked feather's outline, dilated), 1 = left vane, 2 = right vane.
+struct PanelRegions {
+  int width = 0, height = 0;
+  std::vector<unsigned char> side;
+  unsigned char at(int x, int y) const { return side[std::size_t(y) * width + x]; }
+};
+
+// CIELAB (D65 white, reference white = linear RGB 1) of a linear sRGB colour.
+glm::vec3 linear_rgb_to_lab(const glm::vec3& rgb);
+// CIE ΔE 2000 (Sharma, Wu & Dalal 2005) between two CIELAB colours.
+double ciede2000(const glm::vec3& lab1, const glm::vec3& lab2);
+
+// Per-channel median of the image's outermost ring of pixels, over those for which
+// keep(x, y, colour) holds; nothing when fewer than `min_count` do.
+std::optional<glm::vec3> ring_median(const Image& img,
+                                     const std::function<bool(int x, int y, const glm::vec3& c)>& keep,
+                                     std::size_t min_count = 1);
+
+// Separable Gaussian of standard deviation `sigma` pixels (edges clamped); RGB out.
+Image gaussian_blur(const Image& img, float sigma);
+
+// One panel, ready to compare: blurred, its backdrop colour and its feather mask.
+struct MeasuredPanel {
+  Image blurred;                // linear RGB
+  glm::vec3 backdrop{0};        // the given one, or the per-channel median of the outermost pixel ring (compared pixels left out)
+  std::vector<char> feather;    // 1 = feather (only where the region is compared), holes filled
+};
+MeasuredPanel measure_panel(const Image& panel, const PanelRegions& regions, const FidelitySettings& settings,
+                            std::optional<glm::vec3> backdrop = std::nullopt);
+
+struct VaneFidelity {
+  double iou = 0;                  // |photo ∩ render| / |photo ∪ render| over the feather masks
+  int photo_pixels = 0, render_pixels = 0;
+  glm::vec3 photo_mean{0}, render_mean{0};  // mean linear RGB inside the photo's feather mask
+  double mean_colour_de2000 = 0;   // ΔE 2000 between those two means
+  double pixel_de2000 = 0;         // mean over the photo's mask of the pixel-by-pixel ΔE 2000
+};
+
+struct RenderFidelity {
+  VaneFidelity feather, left, right;
+  double backdrop_de2000 = 0;  // between the render's backdrop colour and the photo's
+};
+
+// `render` against `photo` (both measured with the same settings and regions).
+RenderFidelity compare_panels(const MeasuredPanel& photo, const MeasuredPanel& render, const PanelRegions& regions);
+
+// The masks (white both, red photo only, cyan render only, dark neither, darker
+// not compared) and the pixel ΔE 2000 (black 0 → red → yellow → white at 20 and above).
+Image mask_picture(const MeasuredPanel& photo, const MeasuredPanel& render, const PanelRegions& regions);
+Image difference_picture(const MeasuredPanel& photo, const MeasuredPanel& render, const PanelRegions& regions);
+
+nlohmann::json to_json(const RenderFidelity& f);
+nlohmann::json to_json(const FidelitySettings& s);
+
+}  // namespace plumage

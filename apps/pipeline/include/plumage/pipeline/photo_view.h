@@ -1,0 +1,53 @@
+#pragma once
+// One pose for the photo and its renders: the picked feather cropped from the
+// photo with a margin, and an orthographic top view whose pixel grid maps onto
+// that crop through the layout's image <-> feather transform, so the photo panel
+// and the render panels overlay pixel for pixel (docs/analysis.md, "One pose").
+#include <glm/glm.hpp>
+
+#include "plumage/common/image.h"
+#include "plumage/generator/analysis/layout.h"
+#include "plumage/pipeline/fidelity.h"
+#include "plumage/renderer/backdrop.h"
+#include "plumage/renderer/camera.h"
+
+namespace plumage {
+
+struct PhotoCrop {
+  glm::dvec2 origin_px{0};   // photo pixel coordinates of the panels' top-left corner
+  double px_per_panel_px = 1;  // photo pixels per panel pixel (both axes)
+  int width = 0, height = 0;   // panel size in pixels
+};
+
+// The picked feather's bounding box grown by `margin` (a fraction of its larger
+// side, at least 8 photo pixels), kept inside the photo, shown with `size` pixels
+// along its longer side. Throws plumage::Error for a size below 16 or a feather
+// outside the photo.
+PhotoCrop crop_for(const Layout& layout, const FeatherLayout& feather, int size, double margin = 0.06);
+
+// The crop resampled to the panel: each panel pixel the area-weighted mean of the
+// photo over its footprint.
+Image crop_photo(const Image& photo, const PhotoCrop& crop);
+
+// The orthographic top view that sees exactly the crop. Throws plumage::Error when
+// the layout's transform mirrors the photo (the camera cannot see a mirror image).
+CameraSpec crop_camera(const FeatherLayout& feather, const PhotoCrop& crop);
+
+// The photo's background near the picked feather (linear RGB): the per-channel
+// median of the photo panel's outermost ring of pixels, counting only those within
+// kBackgroundDe (ΔE 2000) of the whole photo's border median, so that neighbouring
+// feathers on a sheet do not count; the whole photo's border median when fewer
+// than a tenth of the ring (and 8 pixels) qualify.
+inline constexpr double kBackgroundDe = 15.0;
+glm::vec3 background_colour(const Image& photo, const Image& photo_panel);
+
+// The backdrop card of the photo: the background colour as the card's albedo
+// (scaled so no channel exceeds 0.9), large enough to fill the crop's whole view.
+BackdropSpec photo_backdrop(const glm::vec3& background, const FeatherLayout& feather, const PhotoCrop& crop,
+                            const Bounds3f& feather_bounds);
+
+// The compared pixels: inside the feather's analysed outline grown by `grow_px`
+// panel pixels, each marked left or right vane by its side of the analysed shaft.
+PanelRegions crop_regions(const FeatherLayout& feather, const PhotoCrop& crop, int grow_px = 3);
+
+}  // namespace plumage

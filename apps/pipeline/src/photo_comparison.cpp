@@ -1,0 +1,130 @@
+// The shared chains (photo_comparison.h): layout -> feather, both shading modes,
+// and the photo beside its renders with their fidelity.
+#include "plumage/pipeline/photo_comparison.h"
+
+#include <nlohmann/json.hpp>
+
+#include "plumage/common/atomic_file.h"
+#include "plumage/common/curve_format.h"
+#include "plumage/common/error.h"
+#include "plumage/generator/layout_to_params.h"
+#include "plumage/generator/preview.h"
+
+namespace plumage {
+
+Feather generate_from_layout(const FeatherLayout& layout, std::uint64_t seed, const std::filesystem::path& layout_path,
+                             const std::filesystem::path& fcurves_path, const std::filesystem::path& preview_path,
+                             int preview_size, FileBatch& outputs, std::vector<std::string>* warnings) {
+  const std::filesystem::path out_dir = fcurves_path.parent_path().empty() ? "." : fcurves_path.parent_path();
+  // The renderable albedo (mask filled) goes next to the curve file: NAME.albedo.png.
+  const std::filesystem::path texture = std::filesystem::path(fcurves_path).replace_extension(".albedo.png");
+  const std::filesystem::path layout_dir = layout_path.parent_path().empty() ? "." : layout_path.parent_path();
+  Feather feather = layout_to_feather_with_albedo(layout, seed, layout_dir, out_dir, texture, layout_path.string(),
+                                                  warnings, &outputs);
+  validate_feather(feather);
+  write_fcurves(outputs, fcurves_path, feather);
+  if (!preview_path.empty()) write_image(outputs, preview_path, render_preview(feather, PreviewOptions{preview_size, true}));
+  return feather;
+}
+
+std::vector<Panel> render_both_modes(const Feather& feather, SceneOptions scene, const DomeRig& rig,
+                                     const ViewSpec& view) {
+  scene.mode = ShadingMode::Hair;
+  const Scene hair(feather, scene);
+  scene.mode = ShadingMode::Substructure;
+  const Scene substructure(feather, scene);
+  std::vector<Panel> panels;
+  panels.push_back({render_view(hair, rig, view), "hair"});
+  panels.push_back({render_view(substructure, rig, view), "substructure"});
+  return panels;
+}
+
+std::vector<Panel> light_sequence_sheets(const Feather& feather, SceneOptions scene, const DomeRig& rig,
+                                         const ViewSpec& view, int columns) {
+  // Both scenes first: a bad substructure parameter fails before anything renders.
+  scene.mode = ShadingMode::Hair;
+  const Scene hair(feather, scene);
+  scene.mode = ShadingMode::Substructure;
+  const Scene substructure(feather, scene);
+  const std::vector<int> leds = parse_light_selection(view.lights, int(rig.leds.size()));
+  if (leds.empty()) throw Error("--light-sequence with --lights none: no LED to switch on");
+  std::vector<Panel> sheets;
+  for (const auto& [s, name] : {std::pair<const Scene*, std::string>{&hair, "hair"}, {&substructure, "substructure"}}) {
+    std::vector<Panel> tiles;
+    for (int led : leds) {
+      ViewSpec one = view;
+      one.lights = std::to_string(led + 1);
+      tiles.push_back({render_view(*s, rig, one), "LED " + std::to_string(led + 1)});
+    }
+    sheets.push_back({contact_sheet(tiles, columns, name + ": one LED at a time"), name});
+  }
+  return sheets;
+}
+
+namespace {
+Bounds3f control_point_bounds(const Feather& feather) {
+  Bounds3f b;
+  for (const Curve& c : feather.curves)
+    for (const ControlPoint& p : c.points) b.extend(p.p);
+  return b;
+}
+}  // namespace
+
+PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, const FeatherLayout& picked,
+                                   const Feather& feather, const DomeRig& rig, ViewSpec view, int size,
+                                   const FidelitySettings& settings) {
+  PhotoComparison c;
+  c.settings = settings;
+  c.crop = crop_for(layout, picked, size);
+  if (photo.width != layout.image_width || photo.height != layout.image_height)
+    throw Error("the photo is " + std::to_string(photo.width) + "x" + std::to_string(photo.height) +
+                " but its layout was made from a " + std::to_string(layout.image_width) + "x" +
+                std::to_string(layout.image_height) + " image");
+  Image photo_panel = crop_photo(photo, c.crop);
+  const glm::vec3 bg = background_colour(photo, photo_panel);
+  view.width = c.crop.width;
+  view.height = c.crop.height;
+  view.camera = crop_camera(picked, c.crop);
+  SceneOptions so;
+  so.backdrop = photo_backdrop(bg, picked, c.crop, control_point_bounds(feather));
+  // Expose like the photo: the card (its albedo proportional to the photo's
+  // background) develops to the background's own level, so to its colour.
+  view.card_level = 0.2126f * bg.x + 0.7152f * bg.y + 0.0722f * bg.z;
+  c.panels.push_back({std::move(photo_panel), "photo"});
+  for (Panel& p : render_both_modes(feather, so, rig, view)) c.panels.push_back(std::move(p));
+  c.regions = crop_regions(picked, c.crop);
+  // The photo's backdrop is its background (neighbouring feathers may lie in its
+  // ring); a render's card is alone in its panel.
+  for (const Panel& p : c.panels)
+    c.measured.push_back(measure_panel(p.image, c.regions, settings,
+                                       c.measured.empty() ? std::optional<glm::vec3>(bg) : std::nullopt));
+  for (std::size_t i = 1; i < c.measured.size(); ++i)
+    c.fidelity.push_back(compare_panels(c.measured[0], c.measured[i], c.regions));
+  return c;
+}
+
+Image comparison_image(const PhotoComparison& c) { return side_by_side(c.panels); }
+
+Image fidelity_image(const PhotoComparison& c) {
+  std::vector<Panel> tiles;
+  for (std::size_t i = 1; i < c.panels.size(); ++i) {
+    tiles.push_back({mask_picture(c.measured[0], c.measured[i], c.regions),
+                     c.panels[i].label + ": silhouettes (red photo only, blue render only)"});
+    tiles.push_back({difference_picture(c.measured[0], c.measured[i], c.regions),
+                     c.panels[i].label + ": pixel dE2000, white at 20 and above"});
+  }
+  return contact_sheet(tiles, 2, "fidelity against the photo");
+}
+
+nlohmann::json fidelity_json(const PhotoComparison& c) {
+  nlohmann::json j;
+  j["settings"] = to_json(c.settings);
+  j["panel"] = {{"width", c.crop.width},
+                {"height", c.crop.height},
+                {"photo_origin_px", {c.crop.origin_px.x, c.crop.origin_px.y}},
+                {"photo_px_per_panel_px", c.crop.px_per_panel_px}};
+  for (std::size_t i = 1; i < c.panels.size(); ++i) j[c.panels[i].label] = to_json(c.fidelity[i - 1]);
+  return j;
+}
+
+}  // namespace plumage

@@ -1,0 +1,311 @@
+// photo-to-feather's one pose and its fidelity metrics (apps/pipeline:
+// photo_view.h, fidelity.h; docs/analysis.md, "One pose" and "Fidelity"): CIE ΔE
+// 2000 against Sharma et al.'s published pairs, the crop's camera against the
+// layout's transform, silhouettes and IoU on drawn panels, and the bounds of
+// issue 12 on the pink photo and a spoonbill sheet feather (when ../shared has them).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_run.h"
+#include "plumage/common/atomic_file.h"
+#include "plumage/common/error.h"
+#include "plumage/pipeline/fidelity.h"
+#include "plumage/pipeline/photo_view.h"
+#include "plumage/generator/analysis/analyze.h"
+#include "plumage/generator/layout_to_params.h"
+#include "plumage/renderer/camera.h"
+#include "plumage/renderer/substructure.h"
+#include "synthetic_feather.h"
+
+using namespace plumage;
+namespace fs = std::filesystem;
+
+TEST(Ciede2000, MatchesSharmasTestPairs) {
+  // Sharma, Wu & Dalal (2005), Table 1: pairs 1, 2, 7, 17 and 25.
+  struct Pair {
+    glm::vec3 a, b;
+    double de;
+  } pairs[] = {{{50, 2.6772f, -79.7751f}, {50, 0, -82.7485f}, 2.0425},
+               {{50, 3.1571f, -77.2803f}, {50, 0, -82.7485f}, 2.8615},
+               {{50, 0, 0}, {50, -1, 2}, 2.3669},
+               {{50, 2.5f, 0}, {73, 25, -18}, 27.1492},
+               {{60.2574f, -34.0099f, 36.2677f}, {60.4626f, -34.1751f, 39.4387f}, 1.2644}};
+  for (const Pair& p : pairs) {
+    EXPECT_NEAR(ciede2000(p.a, p.b), p.de, 2e-4) << p.a.x << " " << p.a.y << " " << p.a.z;
+    EXPECT_NEAR(ciede2000(p.b, p.a), p.de, 2e-4);
+  }
+  EXPECT_EQ(ciede2000({40, 10, -5}, {40, 10, -5}), 0.0);
+}
+
+TEST(Ciede2000, LabOfLinearRgb) {
+  const glm::vec3 white = linear_rgb_to_lab(glm::vec3(1.0f));
+  EXPECT_NEAR(white.x, 100.0f, 1e-3f);
+  EXPECT_NEAR(white.y, 0.0f, 1e-2f);
+  EXPECT_NEAR(white.z, 0.0f, 1e-2f);
+  EXPECT_NEAR(linear_rgb_to_lab(glm::vec3(0.0f)).x, 0.0f, 1e-4f);
+  // Mid grey 18 % is L* 49.5; pure red has a* > 0, pure blue b* < 0.
+  EXPECT_NEAR(linear_rgb_to_lab(glm::vec3(0.18f)).x, 49.5f, 0.1f);
+  EXPECT_GT(linear_rgb_to_lab({1, 0, 0}).y, 50.0f);
+  EXPECT_LT(linear_rgb_to_lab({0, 0, 1}).z, -50.0f);
+}
+
+namespace {
+// A feather lying at 30 degrees in a 400x300 photo at 0.25 mm/px: feather = R (u, -v) s + t.
+FeatherLayout rotated_feather(Layout& layout) {
+  layout.image_width = 400, layout.image_height = 300;
+  FeatherLayout f;
+  const double a = 30.0 * 3.14159265358979 / 180.0, s = 0.25;
+  const glm::dvec2 ex = s * glm::dvec2(std::cos(a), std::sin(a)), ey = s * glm::dvec2(std::sin(a), -std::cos(a));
+  f.feather_from_image = glm::dmat3x2(ex, ey, glm::dvec2(-30.0, 12.0));
+  f.bbox_px = {100, 80, 150, 90};
+  f.length_mm = 40;
+  return f;
+}
+}  // namespace
+
+TEST(PhotoView, CameraSeesExactlyTheCrop) {
+  Layout layout;
+  const FeatherLayout f = rotated_feather(layout);
+  const PhotoCrop crop = crop_for(layout, f, 200);
+  EXPECT_EQ(std::max(crop.width, crop.height), 200);
+  // The box grown by 6 % of its larger side (9 px) each way: 168 x 108 photo pixels.
+  EXPECT_NEAR(crop.px_per_panel_px, 168.0 / 200.0, 1e-9);
+  EXPECT_NEAR(crop.origin_px.x, 91.0, 0.5 * crop.px_per_panel_px);
+  EXPECT_NEAR(crop.origin_px.y, 71.0, 0.5 * crop.px_per_panel_px);
+  Bounds3f fb;
+  fb.extend({-40, -10, -1}), fb.extend({10, 40, 1});
+  const Camera cam(crop_camera(f, crop), crop.width, crop.height, fb);
+  // Every panel pixel's ray starts over the feather point its photo pixel shows.
+  for (int j : {0, crop.height / 3, crop.height - 1})
+    for (int i : {0, crop.width / 2, crop.width - 1})
+      for (glm::dvec2 o : {glm::dvec2(0.5, 0.5), glm::dvec2(0.0, 0.0), glm::dvec2(1.0, 1.0)}) {
+        const Ray r = cam.generate(float(i + o.x), float(j + o.y));
+        const glm::dvec2 want = apply(f.feather_from_image, crop.origin_px + crop.px_per_panel_px * (glm::dvec2(i, j) + o));
+        EXPECT_NEAR(r.o.x, want.x, 1e-3) << i << "," << j;
+        EXPECT_NEAR(r.o.y, want.y, 1e-3) << i << "," << j;
+        EXPECT_NEAR(r.d.z, -1.0f, 1e-6f);
+      }
+}
+
+TEST(PhotoView, MirroredTransformIsRefused) {
+  Layout layout;
+  FeatherLayout f = rotated_feather(layout);
+  f.feather_from_image[0] = -f.feather_from_image[0];
+  const PhotoCrop crop = crop_for(layout, f, 100);
+  try {
+    crop_camera(f, crop);
+    FAIL() << "a mirrored transform was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("mirrors"), std::string::npos) << e.what();
+  }
+}
+
+TEST(PhotoView, RegionsFollowTheOutlineAndTheShaftSplitsTheVanes) {
+  // Shaft up the image at u = 200 (feather x = 0.25 (u - 200), y = 0.25 (250 - v)),
+  // outline the rectangle u in [170, 240], v in [90, 250].
+  Layout layout;
+  layout.image_width = 400, layout.image_height = 300;
+  FeatherLayout f;
+  f.feather_from_image = glm::dmat3x2(glm::dvec2(0.25, 0), glm::dvec2(0, -0.25), glm::dvec2(-50, 62.5));
+  f.bbox_px = {170, 90, 70, 160};
+  f.outline_px = {{170, 90}, {240, 90}, {240, 250}, {170, 250}};
+  for (double y : {-10.0, 0.0, 10.0, 20.0, 30.0, 40.0, 50.0}) f.shaft_mm.control_points().push_back({0.0, y});
+  const PhotoCrop crop = crop_for(layout, f, 200);
+  const PanelRegions r = crop_regions(f, crop, 3);
+  const auto at = [&](double u, double v) {
+    const glm::dvec2 p = (glm::dvec2(u, v) - crop.origin_px) / crop.px_per_panel_px;
+    return int(r.at(int(p.x), int(p.y)));
+  };
+  EXPECT_EQ(at(180, 170), 1);  // left of the shaft: the left vane (seen dorsally, tip up)
+  EXPECT_EQ(at(230, 170), 2);
+  EXPECT_EQ(at(199, 100), 1);
+  EXPECT_EQ(at(201, 100), 2);
+  // Grown by 3 panel pixels (0.9 photo px each): 1.5 photo px out is in, 5 px out is not.
+  EXPECT_NE(at(168.5, 170), 0);
+  EXPECT_EQ(at(165, 170), 0);
+  EXPECT_EQ(at(200, 255), 0);
+  EXPECT_NE(at(200, 251.5), 0);
+}
+
+TEST(PhotoView, CropAveragesThePhotoOverEachPanelPixel) {
+  // A photo of vertical stripes 1 px wide (0 and 1): panel pixels 2 photo pixels wide average 0.5.
+  Image photo(64, 32, 3);
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 64; ++x) photo.set_rgb(x, y, glm::vec3(float(x % 2)));
+  PhotoCrop crop;
+  crop.origin_px = {4, 4};
+  crop.px_per_panel_px = 2;
+  crop.width = 20, crop.height = 10;
+  const Image panel = crop_photo(photo, crop);
+  ASSERT_EQ(panel.width, 20);
+  for (int x = 0; x < 20; ++x) EXPECT_NEAR(panel.rgb(x, 5).x, 0.5f, 1e-6f);
+  crop.origin_px = {4.5, 4};  // half a pixel over: (0.5 * 0 + 1 + 0.5 * 0) / 2 or its complement
+  const Image shifted = crop_photo(photo, crop);
+  for (int x = 0; x < 20; ++x) EXPECT_NEAR(shifted.rgb(x, 5).x, 0.5f, 1e-6f);
+  crop.px_per_panel_px = 1;
+  const Image one = crop_photo(photo, crop);  // straddles two stripes equally
+  EXPECT_NEAR(one.rgb(3, 3).x, 0.5f, 1e-6f);
+}
+
+namespace {
+// A light card with a dark disc of radius r at (cx, cy), optionally with a card-coloured hole.
+Image disc(int w, int h, double cx, double cy, double r, double hole = 0) {
+  Image img(w, h, 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const double d = std::hypot(x + 0.5 - cx, y + 0.5 - cy);
+      img.set_rgb(x, y, d < r && d >= hole ? glm::vec3(0.3f, 0.1f, 0.1f) : glm::vec3(0.9f));
+    }
+  return img;
+}
+PanelRegions everywhere(int w, int h, int split_x) {
+  PanelRegions r;
+  r.width = w, r.height = h;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) r.side.push_back(x < split_x ? 1 : 2);
+  return r;
+}
+}  // namespace
+
+TEST(Fidelity, IouOfShiftedDiscsAndColourOfTheSameDisc) {
+  const int w = 200, h = 120;
+  const PanelRegions regions = everywhere(w, h, 100);
+  const FidelitySettings settings;
+  const MeasuredPanel photo = measure_panel(disc(w, h, 100, 60, 40), regions, settings);
+  // The same disc: IoU 1, no colour difference, backdrop found.
+  const RenderFidelity same = compare_panels(photo, measure_panel(disc(w, h, 100, 60, 40), regions, settings), regions);
+  EXPECT_NEAR(same.feather.iou, 1.0, 1e-12);
+  EXPECT_NEAR(same.feather.mean_colour_de2000, 0.0, 1e-6);
+  EXPECT_NEAR(same.backdrop_de2000, 0.0, 1e-6);
+  EXPECT_NEAR(photo.backdrop.x, 0.9f, 1e-5f);
+  // Shifted by 20 px: two discs of radius 40 at distance 20 overlap by
+  // 2 r^2 acos(d / 2r) - (d / 2) sqrt(4 r^2 - d^2); IoU = overlap / (2 pi r^2 - overlap).
+  const RenderFidelity shifted =
+      compare_panels(photo, measure_panel(disc(w, h, 120, 60, 40), regions, settings), regions);
+  const double r = 40, d = 20, lens = 2 * r * r * std::acos(d / (2 * r)) - 0.5 * d * std::sqrt(4 * r * r - d * d);
+  EXPECT_NEAR(shifted.feather.iou, lens / (2 * 3.14159265358979 * r * r - lens), 0.02);
+  // The left half (the shifted disc leaves it) matches worse than the right.
+  EXPECT_LT(shifted.left.iou, shifted.right.iou);
+  // A lighter render: the colour difference grows, the silhouette stays.
+  Image light = disc(w, h, 100, 60, 40);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (light.rgb(x, y).x < 0.5f) light.set_rgb(x, y, {0.4f, 0.15f, 0.15f});
+  const RenderFidelity lighter = compare_panels(photo, measure_panel(light, regions, settings), regions);
+  EXPECT_NEAR(lighter.feather.iou, 1.0, 1e-12);
+  const double expect =
+      ciede2000(linear_rgb_to_lab({0.3f, 0.1f, 0.1f}), linear_rgb_to_lab({0.4f, 0.15f, 0.15f}));
+  EXPECT_NEAR(lighter.feather.mean_colour_de2000, expect, 0.1 * expect);  // the blurred edge pulls the means a little
+}
+
+TEST(Fidelity, SilhouettesHaveNoHolesButKeepGapsOpenToTheEdge) {
+  const int w = 200, h = 120;
+  const PanelRegions regions = everywhere(w, h, 100);
+  // A ring: its card-coloured centre is a hole, so the silhouette is the full disc.
+  const MeasuredPanel ring = measure_panel(disc(w, h, 100, 60, 40, 15), regions, {});
+  const MeasuredPanel full = measure_panel(disc(w, h, 100, 60, 40), regions, {});
+  EXPECT_NEAR(compare_panels(full, ring, regions).feather.iou, 1.0, 1e-12);
+  // A slot cut from the disc to the panel's edge stays a gap.
+  Image slot = disc(w, h, 100, 60, 40);
+  for (int y = 55; y < 65; ++y)
+    for (int x = 100; x < w; ++x) slot.set_rgb(x, y, glm::vec3(0.9f));
+  EXPECT_LT(compare_panels(full, measure_panel(slot, regions, {}), regions).feather.iou, 0.97);
+}
+
+TEST(Fidelity, PanelsOfAnotherSizeAreRefused) {
+  const PanelRegions regions = everywhere(50, 40, 25);
+  EXPECT_THROW(measure_panel(Image(40, 40, 3), regions, {}), Error);
+}
+
+TEST(ClosedVane, EveryBarbOfAPhotoFeatherIsCoveredAndTheRibbonsOverlap) {
+  // A feather analysed from a drawn photo, built as generate --layout builds it.
+  synthetic::SyntheticFeather sf;
+  sf.width = 450, sf.height = 350, sf.calamus = {125, 320}, sf.length = 280;
+  sf.w_left = 30, sf.w_right = 48, sf.spacing = 6;
+  const fs::path dir = fs::temp_directory_path() / ("plumage_closed_vane_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  write_image(dir / "photo.png", sf.draw());
+  AnalyzeOptions ao;
+  ao.mm_per_px = 0.2;
+  const PhotoAnalysis a = analyze_photo(dir / "photo.png", ao);
+  FeatherLayout layout = a.layout.feathers.front();
+  layout.albedo.file.clear();  // geometry only
+  const Feather f = layout_to_feather(layout, 1, dir, dir);
+  fs::remove_all(dir);
+  for (VaneSide side : {VaneSide::Left, VaneSide::Right}) {
+    const SubstructureParams& p = f.substructure(side);
+    // The ribbons reach over the gap between neighbouring barbs ...
+    EXPECT_NEAR(p.ribbon_width, kBarbOverlap * barb_gap_mm(f, side), 1e-4) << to_string(side);
+    EXPECT_GT(p.ribbon_width, barb_gap_mm(f, side));
+    // ... and barbules cover every barb's ribbon (control polygon >= arc length), so
+    // the substructure albedo correction 1 - (1 - A) / coverage is the identity.
+    const BarbSubstructure sub(p, side);
+    int barbs = 0;
+    for (const Curve& c : f.curves) {
+      if (c.kind != CurveKind::Barb || c.side != side) continue;
+      double length = 0;
+      for (std::size_t i = 1; i < c.points.size(); ++i) length += glm::length(c.points[i].p - c.points[i - 1].p);
+      EXPECT_DOUBLE_EQ(sub.covered_fraction(length), 1.0);
+      ++barbs;
+    }
+    EXPECT_GT(barbs, 10);
+    // With 10 % fewer barbules the longest barb is no longer covered.
+    SubstructureParams fewer = p;
+    fewer.barbules_per_side = int(p.barbules_per_side / 1.12);
+    double longest = 0;
+    for (const Curve& c : f.curves)
+      if (c.kind == CurveKind::Barb && c.side == side) {
+        double length = 0;
+        for (std::size_t i = 1; i < c.points.size(); ++i) length += glm::length(c.points[i].p - c.points[i - 1].p);
+        longest = std::max(longest, length);
+      }
+    EXPECT_LT(BarbSubstructure(fewer, side).covered_fraction(longest), 1.0);
+  }
+}
+
+// Issue 12's bounds on real photos, at a smaller panel and fewer samples than the
+// defaults (the study at the defaults: docs/analysis.md, "Photo-to-feather study").
+class PhotoFidelityBounds : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("plumage_photo_fidelity_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  nlohmann::json run(const fs::path& photo, const std::string& extra) {
+    const auto r = test::plumage_cli("-q photo-to-feather " + photo.string() + " -o " + dir_.string() +
+                                     " --size 336 --spp 4 --threads 2 " + extra);
+    EXPECT_EQ(r.rc, 0) << r.output;
+    return nlohmann::json::parse(read_file(dir_ / "summary.json")).at("fidelity");
+  }
+  fs::path dir_;
+};
+
+TEST_F(PhotoFidelityBounds, PinkFeather) {
+  const fs::path photo = fs::path(PLUMAGE_SHARED_DIR) / "photos" / "pink-contour-feather.jpg";
+  if (!fs::exists(photo)) GTEST_SKIP() << photo << " not present";
+  const nlohmann::json f = run(photo, "");
+  for (const char* panel : {"hair", "substructure"}) {
+    EXPECT_GE(f.at(panel).at("feather").at("silhouette_iou").get<double>(), 0.85) << panel;
+    EXPECT_LE(f.at(panel).at("feather").at("mean_colour_de2000").get<double>(), 8.0) << panel;
+    EXPECT_LE(f.at(panel).at("backdrop_de2000").get<double>(), 2.0) << panel;
+  }
+  EXPECT_LE(f.at("substructure").at("feather").at("mean_colour_de2000").get<double>(),
+            f.at("hair").at("feather").at("mean_colour_de2000").get<double>());
+}
+
+TEST_F(PhotoFidelityBounds, SpoonbillSheetFeather) {
+  const fs::path photo = fs::path(PLUMAGE_SHARED_DIR) / "photos" / "spoonbill-wing-sheet.png";
+  if (!fs::exists(photo)) GTEST_SKIP() << photo << " not present";
+  const nlohmann::json f = run(photo, "--feather 5 --grid-mm 20");
+  for (const char* panel : {"hair", "substructure"}) {
+    EXPECT_GE(f.at(panel).at("feather").at("silhouette_iou").get<double>(), 0.85) << panel;
+    // The card is the sheet's black, not a neighbouring feather's colour.
+    EXPECT_LE(f.at(panel).at("backdrop_de2000").get<double>(), 3.0) << panel;
+  }
+}
