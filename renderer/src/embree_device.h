@@ -29,5 +29,7 @@ inline constexpr unsigned kKeepGapsId = 1u;
 // tallied to the shared counter (called once per query).
 void attach_gap_filter(RTCGeometry geom, const Scene* scene);
 void flush_gap_rejections();
+// Farfield mode (farfield_scene.cpp): installs the stochastic pass-through filter.
+void attach_farfield_filter(RTCGeometry geom, const Scene* scene);
 
 }  // namespace plumage

@@ -81,8 +81,8 @@ const BarbSubstructure& Scene::vane_of(std::uint32_t curve) const {
   return feather_.curves[curve].side == VaneSide::Right ? *right_ : *left_;
 }
 
-void Scene::build_substructure() {
-  make_vanes("--shading substructure");
+void Scene::build_substructure(const char* what) {
+  make_vanes(what);
   for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci) {
     const Curve& c = feather_.curves[ci];
     if (c.kind != CurveKind::Barb || !keep_[ci]) continue;
