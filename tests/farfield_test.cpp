@@ -22,6 +22,7 @@
 #include "plumage/renderer/path_integrator.h"
 #include "plumage/renderer/render.h"
 #include "plumage/renderer/scene.h"
+#include "chi_square.h"
 #include "one_barb.h"
 #include "render_test_feather.h"
 
@@ -77,32 +78,7 @@ glm::vec3 random_direction(std::mt19937& rng) {
 
 double stat(const std::string& name) { return stats_snapshot()[name]; }
 
-// Regularised upper incomplete gamma Q(a, x) (Abramowitz & Stegun 6.5.29 series
-// for x < a + 1, 6.5.31 continued fraction otherwise), for chi-square p-values.
-double gamma_q(double a, double x) {
-  if (x <= 0) return 1.0;
-  const double log_prefix = a * std::log(x) - x - std::lgamma(a);
-  if (x < a + 1) {
-    double term = 1.0 / a, sum = term;
-    for (int n = 1; n < 100000 && term > sum * 1e-15; ++n) sum += term *= x / (a + n);
-    return 1.0 - sum * std::exp(log_prefix);
-  }
-  const double tiny = 1e-300;
-  double b = x + 1 - a, c = 1 / tiny, d = 1 / b, h = d;
-  for (int i = 1; i < 100000; ++i) {
-    const double an = -i * (i - a);
-    b += 2;
-    d = an * d + b;
-    if (std::abs(d) < tiny) d = tiny;
-    c = b + an / c;
-    if (std::abs(c) < tiny) c = tiny;
-    d = 1 / d;
-    const double delta = d * c;
-    h *= delta;
-    if (std::abs(delta - 1) < 1e-15) break;
-  }
-  return std::exp(log_prefix) * h;
-}
+using test::gamma_q;
 
 }  // namespace
 

@@ -33,19 +33,14 @@ struct FarfieldFilter {
     for (unsigned i = 0; i < args->N; ++i) {
       if (!args->valid[i]) continue;
       if (RTCRayN_id(args->ray, args->N, i) & kKeepGapsId) continue;
-      const glm::vec3 o(RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
-                        RTCRayN_org_z(args->ray, args->N, i));
-      const glm::vec3 d(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
-                        RTCRayN_dir_z(args->ray, args->N, i));
-      // During filtering Embree stores the candidate hit distance in tfar.
-      const float t = RTCRayN_tfar(args->ray, args->N, i);
+      const FilterCandidate c(args, i);
       const std::uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
-      const StructureSample ss = scene->ribbon_point(prim, RTCHitN_u(args->hit, args->N, i), o + t * d, true);
+      const StructureSample ss = scene->ribbon_point(prim, RTCHitN_u(args->hit, args->N, i), c.point(), true);
       const BarbSubstructure& vane = *scene->ribbon_segments_[prim].vane;
       Frame f = ss.barb;
       f.b *= vane.distal_sign();
-      const float T = scene->farfield_T_[vane.side() == VaneSide::Right]->transmittance(f.to_local(d));
-      if (T > 0 && uniform(o, d, t, prim) < T) args->valid[i] = 0;
+      const float T = scene->farfield_T_[vane.side() == VaneSide::Right]->transmittance(f.to_local(c.d));
+      if (T > 0 && uniform(c.o, c.d, c.t, prim) < T) args->valid[i] = 0;
     }
   }
 };

@@ -1,0 +1,35 @@
+#pragma once
+// Chi-square p-values for the sampling tests (hair BCSDF, far-field model).
+#include <cmath>
+
+namespace plumage::test {
+
+// Regularised upper incomplete gamma Q(a, x) (Abramowitz & Stegun 6.5.29 series for
+// x < a + 1, Legendre's continued fraction 6.5.31 otherwise), for chi-square p-values.
+inline double gamma_q(double a, double x) {
+  if (x <= 0) return 1.0;
+  const double log_prefix = a * std::log(x) - x - std::lgamma(a);
+  if (x < a + 1) {
+    double term = 1.0 / a, sum = term;
+    for (int n = 1; n < 100000 && term > sum * 1e-15; ++n) sum += term *= x / (a + n);
+    return 1.0 - sum * std::exp(log_prefix);
+  }
+  // Modified Lentz evaluation of the continued fraction.
+  const double tiny = 1e-300;
+  double b = x + 1 - a, c = 1 / tiny, d = 1 / b, h = d;
+  for (int i = 1; i < 100000; ++i) {
+    const double an = -i * (i - a);
+    b += 2;
+    d = an * d + b;
+    if (std::abs(d) < tiny) d = tiny;
+    c = b + an / c;
+    if (std::abs(c) < tiny) c = tiny;
+    d = 1 / d;
+    const double delta = d * c;
+    h *= delta;
+    if (std::abs(delta - 1) < 1e-15) break;
+  }
+  return std::exp(log_prefix) * h;
+}
+
+}  // namespace plumage::test
