@@ -29,6 +29,14 @@
 namespace plumage {
 namespace {
 
+// No test in this binary writes far-field tables to the user's cache: scenes in
+// farfield mode (here, the stress and CLI tests) fit them in memory.
+struct NoFarfieldDiskCache : ::testing::Environment {
+  NoFarfieldDiskCache() { setenv("PLUMAGE_FARFIELD_CACHE", "", 1); }
+};
+[[maybe_unused]] ::testing::Environment* const kNoDiskCache =
+    ::testing::AddGlobalTestEnvironment(new NoFarfieldDiskCache);
+
 constexpr double kPi = std::numbers::pi;
 
 // The presets' barb (rock dove: r_r 40 um, r_b 6 um, theta_b 45, phi_b 10, 30 % hooks, W 0.4 mm)
@@ -419,15 +427,10 @@ TEST_F(FarfieldCache, DamagedOrStaleFileIsRefusedAndRefitted) {
 
 // --- through Embree and the integrator ------------------------------------------------
 
-// Scenes fit with the default settings; these tests keep nothing on disk.
-struct NoDiskCache {
-  NoDiskCache() { setenv("PLUMAGE_FARFIELD_CACHE", "", 1); }
-};
 
 // Rays straight down onto a far-field ribbon are let through at the table's T
 // for that direction (and the same ray is decided the same way every time).
 TEST(FarfieldScene, PassThroughAtTheTablesRate) {
-  const NoDiskCache no_disk;
   const Feather f = test::one_barb(test::substructure_params(100, 45, 0.04, 0.006, 0.4, 10, 0.3));
   SceneOptions so;
   so.mode = ShadingMode::Farfield;
@@ -456,7 +459,6 @@ TEST(FarfieldScene, PassThroughAtTheTablesRate) {
 // White furnace at full depth: with sigma_a = 0 under a white environment a
 // far-field feather passes on at most what it receives.
 TEST(FarfieldScene, FurnaceNoMoreEnergyOutThanIn) {
-  const NoDiskCache no_disk;
   Feather f = test::make_test_feather(12.0f, 0.4f, 0.05f);
   f.left = f.right = test::substructure_params(30, 40, 0.04, 0.012, 0.3, 10, 0.3);
   SceneOptions so;
