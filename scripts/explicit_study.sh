@@ -5,9 +5,11 @@
 # of the zoomed view in the four modes. Writes into OUT (default build/explicit_study):
 #   {zoom,full}_{one,all}.csv   mode,spp,seconds,rmse,relative_mse,cpu_seconds (vs explicit)
 #   crops.png                   explicit | substructure | farfield | hair, zoomed
+#   summary.md                  the tables, also spliced into docs/substructure.md
 #   farfield_cache/             the far-field tables (PLUMAGE_FARFIELD_CACHE, unless set)
 # Usage: scripts/explicit_study.sh [OUT] — environment: PLUMAGE (the binary),
-# PRESET (rock-dove-wing), LED (the single LED, 10), REF_SPP (1024), SPP (1,4,16,64,256).
+# PRESET (rock-dove-wing), LED (the single LED, 10), REF_SPP (1024), SPP (1,4,16,64,256),
+# MODES (hair,substructure,farfield,explicit; explicit gives the noise estimate).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-build/explicit_study}
@@ -39,6 +41,10 @@ run zoom_one "$led" --zoom "$zoom" --resolution 64x64
 run zoom_all all --zoom "$zoom" --resolution 64x64
 run full_one "$led" --resolution 48x72
 run full_all all --resolution 48x72
+# The tables of docs/substructure.md ("The study"): each ladder, and the model error
+# (noise taken out) and CPU time per sample of every mode.
+python3 scripts/explicit_summary.py "$out" "$ref_spp" >"$out/summary.md"
+python3 scripts/doc_table.py docs/substructure.md explicit-study "$out/summary.md"
 
 # The picture: the zoomed view in each mode (perspective top view of about the same
 # area; 128x128, 256 spp), side by side: all LEDs over white paper on top, the single

@@ -284,7 +284,7 @@ std::string farfield_key(const FarfieldGeometry& g, const HairParams* m, const F
   const SubstructureParams& p = g.params;
   char buf[512];
   std::snprintf(buf, sizeof buf,
-                "farfield v%u; period %.9g; barbules %d; ramus_radius %.9g; barbule_radius %.9g; elevation %.9g; "
+                "farfield v%u; period %.9g; has_barbules %d; ramus_radius %.9g; barbule_radius %.9g; elevation %.9g; "
                 "azimuth %.9g; hooked_fraction %.9g; ribbon_width %.9g; bins %dx%d; paths %d; depth %d; seed %u",
                 kVersion, double(g.period), p.barbules_per_side > 0 ? 1 : 0, double(p.ramus_radius),
                 double(p.barbule_radius), double(p.elevation_deg), double(p.azimuth_deg), double(p.hooked_fraction),
