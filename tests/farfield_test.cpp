@@ -12,10 +12,12 @@
 #include <fstream>
 #include <numbers>
 #include <random>
+#include <regex>
 #include <string>
 #include <vector>
 
 #include "plumage/common/atomic_file.h"
+#include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
 #include "plumage/common/stats.h"
 #include "plumage/renderer/farfield.h"
@@ -23,6 +25,7 @@
 #include "plumage/renderer/render.h"
 #include "plumage/renderer/scene.h"
 #include "chi_square.h"
+#include "cli_run.h"
 #include "one_barb.h"
 #include "render_test_feather.h"
 
@@ -435,7 +438,9 @@ TEST(FarfieldScene, PassThroughAtTheTablesRate) {
   SceneOptions so;
   so.mode = ShadingMode::Farfield;
   const Scene scene(f, so);
-  const FarfieldGeometry& g = scene.farfield_geometry(VaneSide::Right);
+  ASSERT_EQ(scene.farfield_geometries(VaneSide::Right).size(), 1u) << "one barb, one class";
+  EXPECT_TRUE(scene.farfield_geometries(VaneSide::Left).empty());
+  const FarfieldGeometry& g = scene.farfield_geometries(VaneSide::Right)[0];
   EXPECT_GT(g.period, 0.0f);
   EXPECT_EQ(g.params.ribbon_width, 0.4f);
   const float T = farfield_model(g, nullptr)->transmittance({0, 0, -1});
@@ -487,6 +492,64 @@ TEST(FarfieldScene, FurnaceNoMoreEnergyOutThanIn) {
   const double mean = sum / double(img.pixels.size());
   EXPECT_LE(mean, 1.01);
   EXPECT_GE(mean, 0.85);
+}
+
+// The user's path: `plumage render --shading farfield --stats` fits and caches the
+// tables, a second run reads them, and damaged files are reported one line each
+// and refitted; a bad substructure parameter fails before anything is fitted.
+TEST(FarfieldCli, RenderFitsThenReadsThenRefitsDamagedFiles) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("plumage_farfield_cli_" + std::to_string(getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir / "cache");
+  Feather f = test::make_test_feather(12.0f, 1.0f);
+  f.left = f.right = test::substructure_params(20, 45, 0.04, 0.008, 0.4, 10, 0.3);
+  write_fcurves(dir / "f.fcurves", f);
+  setenv("PLUMAGE_FARFIELD_CACHE", (dir / "cache").c_str(), 1);
+  const std::string cmd = "-q --stats render '" + (dir / "f.fcurves").string() +
+                          "' --shading farfield --spp 1 --resolution 16x16 -o '" + (dir / "a.png").string() + "'";
+  auto count = [](const std::string& err, const std::string& name) {
+    std::smatch m;
+    if (!std::regex_search(err, m, std::regex(name + R"( +([0-9]+))"))) return -1;
+    return std::stoi(m[1]);
+  };
+  const auto first = test::plumage_cli_streams(cmd);
+  ASSERT_EQ(first.rc, 0) << first.err;
+  const int fitted = count(first.err, "Tables fitted \\(gonioreflectometer runs\\)");
+  EXPECT_GE(fitted, 2) << "a transmittance and a BSDF table at least: " << first.err;
+  EXPECT_EQ(count(first.err, "Tables read from the disk cache"), 0);
+  EXPECT_NE(first.err.find("Fit: noise"), std::string::npos) << first.err;
+  std::size_t files = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir / "cache")) files += e.is_regular_file();
+  EXPECT_EQ(int(files), fitted);
+
+  const auto second = test::plumage_cli_streams(cmd);
+  ASSERT_EQ(second.rc, 0) << second.err;
+  EXPECT_EQ(count(second.err, "Tables fitted \\(gonioreflectometer runs\\)"), 0) << second.err;
+  EXPECT_EQ(count(second.err, "Tables read from the disk cache"), fitted);
+
+  for (const auto& e : std::filesystem::directory_iterator(dir / "cache")) write_file_atomic(e.path(), "garbage");
+  const auto third = test::plumage_cli_streams(cmd);
+  ASSERT_EQ(third.rc, 0) << third.err;
+  EXPECT_EQ(count(third.err, "Tables fitted \\(gonioreflectometer runs\\)"), fitted);
+  EXPECT_EQ(count(third.err, "Cache files refused and refitted"), fitted);
+  int warnings = 0;
+  std::istringstream lines(third.err);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("plumage: warning: far-field cache ", 0) == 0) {
+      ++warnings;
+      EXPECT_NE(line.find("refitting"), std::string::npos) << line;
+    }
+  EXPECT_EQ(warnings, fitted) << third.err;
+
+  const auto bad = test::plumage_cli_streams("render '" + (dir / "f.fcurves").string() +
+                                             "' --shading farfield --barbule-elevation 0.2 -o '" +
+                                             (dir / "bad.png").string() + "'");
+  EXPECT_NE(bad.rc, 0);
+  EXPECT_NE(bad.err.find("--barbule-elevation"), std::string::npos) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad.png"));
+  setenv("PLUMAGE_FARFIELD_CACHE", "", 1);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace plumage

@@ -5,6 +5,8 @@
 // measured transmittance, and a hit that is kept is shaded by the table.
 #include <algorithm>
 #include <bit>
+#include <cmath>
+#include <numbers>
 #include <vector>
 
 #include "embree_device.h"
@@ -39,7 +41,8 @@ struct FarfieldFilter {
       const BarbSubstructure& vane = *scene->ribbon_segments_[prim].vane;
       Frame f = ss.barb;
       f.b *= vane.distal_sign();
-      const float T = scene->farfield_T_[vane.side() == VaneSide::Right]->transmittance(f.to_local(c.d));
+      const FarfieldModel& m = *scene->farfield_T_[vane.side() == VaneSide::Right][scene->farfield_class_[prim]];
+      const float T = m.transmittance(f.to_local(c.d));
       if (T > 0 && uniform(c.o, c.d, c.t, prim) < T) args->valid[i] = 0;
     }
   }
@@ -51,26 +54,57 @@ void attach_farfield_filter(RTCGeometry geom, const Scene* scene) {
   rtcSetGeometryOccludedFilterFunction(geom, &FarfieldFilter::pass_through);
 }
 
-// Substructure mode's ribbons, and per vane the geometry its table is fitted for:
-// the vane's parameters and its barbule period, the median barb length over N.
+// Substructure mode's ribbons, and per vane the geometries its tables are fitted
+// for. The curve file's N is per barb, so the barbule period L/N falls with the
+// barb's length L: a vane's barbs are put in up to kMaxClasses classes spaced
+// evenly in log period, each with its own table at the class's central period.
+// Periods below half the one at which barbules cover the whole ribbon
+// (2 r_b / sin theta_b) all share the lowest class.
 void Scene::build_farfield() {
+  constexpr int kMaxClasses = 4;
+  constexpr double kClassRatio = 1.5;  // at least this ratio of periods per class
   build_substructure("--shading farfield");
-  std::vector<float> lengths[2];
+  struct Barb {
+    std::size_t first_prim, prims;
+    double period;
+  };
+  std::vector<Barb> barbs[2];
   std::size_t seg = 0;
   for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci) {
     const Curve& c = feather_.curves[ci];
     if (c.kind != CurveKind::Barb || !keep_[ci]) continue;
-    lengths[c.side == VaneSide::Right].push_back(ribbon_segments_[seg].length);
-    seg += c.points.size() - 3;
+    const int n = feather_.substructure(c.side).barbules_per_side;
+    const std::size_t prims = c.points.size() - 3;
+    barbs[c.side == VaneSide::Right].push_back({seg, prims, n > 0 ? ribbon_segments_[seg].length / double(n) : 0.0});
+    seg += prims;
   }
+  farfield_class_.assign(seg, 0);
   for (int side = 0; side < 2; ++side) {
-    if (lengths[side].empty()) continue;
-    std::vector<float>& l = lengths[side];
-    std::nth_element(l.begin(), l.begin() + l.size() / 2, l.end());
-    FarfieldGeometry& g = farfield_geometry_[side];
-    g.params = feather_.substructure(side ? VaneSide::Right : VaneSide::Left);
-    g.period = g.params.barbules_per_side > 0 ? l[l.size() / 2] / float(g.params.barbules_per_side) : 0.0f;
-    farfield_T_[side] = farfield_model(g, nullptr);
+    if (barbs[side].empty()) continue;
+    const SubstructureParams p = feather_.substructure(side ? VaneSide::Right : VaneSide::Left);
+    const double saturated = 2 * double(p.barbule_radius) / std::sin(double(p.elevation_deg) * std::numbers::pi / 180);
+    double lo = 1e30, hi = 0;
+    for (const Barb& b : barbs[side]) {
+      lo = std::min(lo, std::max(b.period, 0.5 * saturated));
+      hi = std::max(hi, std::max(b.period, 0.5 * saturated));
+    }
+    const bool periodic = p.barbules_per_side > 0 && p.barbule_radius > 0 && hi > 0;
+    const int classes =
+        periodic ? std::clamp(int(std::ceil(std::log(hi / lo) / std::log(kClassRatio))), 1, kMaxClasses) : 1;
+    const double span = classes > 1 ? std::log(hi / lo) : 1.0;
+    for (int k = 0; k < classes; ++k) {
+      FarfieldGeometry g;
+      g.params = p;
+      g.period = periodic ? float(lo * std::exp(span * (k + 0.5) / classes)) : 0.0f;
+      if (classes == 1 && periodic) g.period = float(std::sqrt(lo * hi));
+      farfield_geometry_[side].push_back(g);
+      farfield_T_[side].push_back(farfield_model(g, nullptr));
+    }
+    for (const Barb& b : barbs[side]) {
+      const double x = classes > 1 ? std::log(std::max(b.period, lo) / lo) / span * classes : 0.0;
+      const auto k = std::uint8_t(std::clamp(int(x), 0, classes - 1));
+      std::fill_n(farfield_class_.begin() + std::ptrdiff_t(b.first_prim), b.prims, k);
+    }
   }
 }
 

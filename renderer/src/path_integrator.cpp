@@ -211,12 +211,12 @@ PathIntegrator::PathIntegrator(const Scene& scene, const LightSet& lights, const
     : scene_(scene), lights_(lights), material_(material), settings_(settings) {
   if (settings_.light_picks < 1) throw Error("light picks per vertex must be at least 1");
   if (scene_.options().mode == ShadingMode::Farfield) {
-    // One table per vane, for the material where the feather's middle is (a
-    // texture's variation over the feather is not fitted).
+    // One table per vane and barb class, for the material where the feather's
+    // middle is (a texture's variation over the feather is not fitted).
     const HairParams hp = material_.at(scene_.feather_bounds().centre());
     for (VaneSide side : {VaneSide::Left, VaneSide::Right})
-      if (scene_.farfield_geometry(side).params.ribbon_width > 0)  // the vane has barbs in the scene
-        farfield_[side == VaneSide::Right] = farfield_model(scene_.farfield_geometry(side), &hp);
+      for (const FarfieldGeometry& g : scene_.farfield_geometries(side))
+        farfield_[side == VaneSide::Right].push_back(farfield_model(g, &hp));
   }
 }
 
@@ -258,7 +258,7 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
     const Scatter* bsdf;
     if (hit.kind == HitKind::Barb && scene_.options().mode == ShadingMode::Farfield) {
       const bool right = scene_.feather().curves[hit.curve].side == VaneSide::Right;
-      bsdf = &farfield.emplace(*farfield_[right], scene_.farfield_frame(hit), wo);
+      bsdf = &farfield.emplace(*farfield_[right][scene_.farfield_class(hit)], scene_.farfield_frame(hit), wo);
     } else if (hit.kind == HitKind::Backdrop) {
       bsdf = &diffuse.emplace(safe_normalize(hit.ng), wo, scene_.options().backdrop.albedo);
     } else {

@@ -5,6 +5,7 @@
 // hair BCSDF in their own frame; the backdrop is a two-sided lambertian card.
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -52,7 +53,7 @@ class PathIntegrator {
   const LightSet& lights_;
   const FibreMaterial& material_;
   IntegratorSettings settings_;
-  std::shared_ptr<const FarfieldModel> farfield_[2];  // farfield mode: left, right vane
+  std::vector<std::shared_ptr<const FarfieldModel>> farfield_[2];  // farfield mode: left, right vane, per class
 };
 
 // Veach's power heuristic (beta = 2) for one sample of each of two strategies.

@@ -70,8 +70,13 @@ class Scene {
   // Farfield mode, a barb hit: the barb's frame with b turned to the distal side
   // (the far-field table's frame, farfield.h).
   Frame farfield_frame(const SurfaceHit& hit) const;
-  // Farfield mode: what a vane's table stands for (its substructure and barbule period).
-  const FarfieldGeometry& farfield_geometry(VaneSide side) const { return farfield_geometry_[side == VaneSide::Right]; }
+  // Farfield mode: what a vane's tables stand for (its substructure and a barbule
+  // period per class of barbs; empty for a vane without barbs in the scene), and
+  // the class of a barb hit (its index there).
+  const std::vector<FarfieldGeometry>& farfield_geometries(VaneSide side) const {
+    return farfield_geometry_[side == VaneSide::Right];
+  }
+  std::size_t farfield_class(const SurfaceHit& hit) const { return farfield_class_[hit.prim]; }
   // Explicit mode: the curves built (rami and barbules) and the bytes of their data.
   std::size_t explicit_curves() const { return explicit_fibres_.size(); }
   std::size_t explicit_bytes() const { return explicit_bytes_; }
@@ -148,8 +153,9 @@ class Scene {
   std::vector<ExplicitFibre> explicit_fibres_;  // explicit mode; control points live in barbs_
   std::size_t explicit_bytes_ = 0;
   std::vector<float> explicit_coverage_;  // explicit mode: per feather curve, the ribbon coverage substructure mode gives it
-  FarfieldGeometry farfield_geometry_[2];                 // farfield mode: left, right
-  std::shared_ptr<const FarfieldModel> farfield_T_[2];    // their straight transmittance
+  std::vector<FarfieldGeometry> farfield_geometry_[2];               // farfield mode: left, right, per class
+  std::vector<std::shared_ptr<const FarfieldModel>> farfield_T_[2];  // their straight transmittance
+  std::vector<std::uint8_t> farfield_class_;                         // per barb primitive
   std::vector<char> keep_;  // per feather curve: in the BVH
   std::size_t culled_ = 0;
 };
