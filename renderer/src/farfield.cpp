@@ -312,18 +312,36 @@ namespace {
 std::mutex g_memory_mutex;
 std::map<std::string, std::shared_ptr<const FarfieldModel>> g_memory;
 
+// `--stats`: the BSDF tables this process uses, summed (time, paths) or at their
+// worst (noise, asymmetry, energy clamp) and over their range (albedo, T).
 void publish(const FarfieldModel& m) {
   if (!m.has_bsdf()) return;
+  static FarfieldReport all;
+  static int tables = 0;
   const FarfieldReport& r = m.report;
-  stats_set_value("Farfield/Fit: wall seconds (0 = from cache)", r.seconds);
-  stats_set_value("Farfield/Fit: incident paths", double(r.paths));
-  stats_set_value("Farfield/Fit: noise (relative RMS standard error of F)", r.noise);
-  stats_set_value("Farfield/Fit: asymmetry before symmetrising (relative RMS)", r.asymmetry);
-  stats_set_value("Farfield/Fit: albedo min over bins", r.albedo_min);
-  stats_set_value("Farfield/Fit: albedo max over bins", r.albedo_max);
-  stats_set_value("Farfield/Fit: transmittance min over bins", r.T_min);
-  stats_set_value("Farfield/Fit: transmittance max over bins", r.T_max);
-  stats_set_value("Farfield/Fit: energy bound scale-down (max)", r.clamped);
+  if (tables++ == 0) {
+    all = r;
+  } else {
+    all.seconds += r.seconds;
+    all.paths += r.paths;
+    all.noise = std::max(all.noise, r.noise);
+    all.asymmetry = std::max(all.asymmetry, r.asymmetry);
+    all.clamped = std::max(all.clamped, r.clamped);
+    all.albedo_min = std::min(all.albedo_min, r.albedo_min);
+    all.albedo_max = std::max(all.albedo_max, r.albedo_max);
+    all.T_min = std::min(all.T_min, r.T_min);
+    all.T_max = std::max(all.T_max, r.T_max);
+  }
+  stats_set_value("Farfield/Fit: BSDF tables in use", tables);
+  stats_set_value("Farfield/Fit: wall seconds, BSDF tables fitted here (0 = all from cache)", all.seconds);
+  stats_set_value("Farfield/Fit: incident paths, BSDF tables fitted or read", double(all.paths));
+  stats_set_value("Farfield/Fit: noise, worst table (relative RMS standard error of F)", all.noise);
+  stats_set_value("Farfield/Fit: asymmetry before symmetrising, worst table (relative RMS)", all.asymmetry);
+  stats_set_value("Farfield/Fit: albedo min over bins and tables", all.albedo_min);
+  stats_set_value("Farfield/Fit: albedo max over bins and tables", all.albedo_max);
+  stats_set_value("Farfield/Fit: transmittance min over bins and tables", all.T_min);
+  stats_set_value("Farfield/Fit: transmittance max over bins and tables", all.T_max);
+  stats_set_value("Farfield/Fit: energy bound scale-down, worst table", all.clamped);
 }
 }  // namespace
 
