@@ -33,9 +33,13 @@ namespace plumage {
 namespace {
 
 // No test in this binary writes far-field tables to the user's cache: scenes in
-// farfield mode (here, the stress and CLI tests) fit them in memory.
+// farfield mode (here, the stress and CLI tests) fit them in memory, with 1024
+// paths per direction bin instead of 8192 (the noise, not the model, changes).
 struct NoFarfieldDiskCache : ::testing::Environment {
-  NoFarfieldDiskCache() { setenv("PLUMAGE_FARFIELD_CACHE", "", 1); }
+  NoFarfieldDiskCache() {
+    setenv("PLUMAGE_FARFIELD_CACHE", "", 1);
+    setenv("PLUMAGE_FARFIELD_PATHS", "1024", 1);
+  }
 };
 [[maybe_unused]] ::testing::Environment* const kNoDiskCache =
     ::testing::AddGlobalTestEnvironment(new NoFarfieldDiskCache);
@@ -324,6 +328,21 @@ TEST(FarfieldFit, ExtremeDirectionsStayFinite) {
   glm::vec3 s, w;
   EXPECT_FALSE(m.sample({NAN, NAN, NAN}, {0.5f, 0.5f, 0.5f}, &s, &w, &pdf));
   EXPECT_EQ(m.transmittance({0, 0, 0}), 1.0f);
+}
+
+// The paths per bin come from PLUMAGE_FARFIELD_PATHS; a bad value is refused, naming it.
+TEST(FarfieldFit, PathsFromTheEnvironment) {
+  EXPECT_EQ(farfield_fit_settings().paths_per_bin, 1024);  // the test environment's
+  for (const char* bad : {"0", "1", "abc", "12x", "-5", "99999999999"}) {
+    setenv("PLUMAGE_FARFIELD_PATHS", bad, 1);
+    try {
+      farfield_fit_settings();
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("PLUMAGE_FARFIELD_PATHS"), std::string::npos) << e.what();
+    }
+  }
+  setenv("PLUMAGE_FARFIELD_PATHS", "1024", 1);
 }
 
 // --- the cache ------------------------------------------------------------------------

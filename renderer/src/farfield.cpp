@@ -301,6 +301,18 @@ std::string farfield_key(const FarfieldGeometry& g, const HairParams* m, const F
   return key;
 }
 
+FarfieldFitSettings farfield_fit_settings() {
+  FarfieldFitSettings s;
+  if (const char* v = std::getenv("PLUMAGE_FARFIELD_PATHS"); v && *v) {
+    char* end = nullptr;
+    const long n = std::strtol(v, &end, 10);
+    if (*end != '\0' || n < 2 || n > 10000000)
+      throw Error(std::string("PLUMAGE_FARFIELD_PATHS '") + v + "': give the far-field fit's paths per direction bin, 2 to 10000000");
+    s.paths_per_bin = int(n);
+  }
+  return s;
+}
+
 std::filesystem::path farfield_cache_dir() {
   if (const char* d = std::getenv("PLUMAGE_FARFIELD_CACHE")) return d;  // set but empty: no disk cache
   if (const char* d = std::getenv("XDG_CACHE_HOME"); d && *d) return std::filesystem::path(d) / "plumage/farfield";

@@ -140,13 +140,17 @@ FarfieldModel measure_farfield(const FarfieldGeometry& g, const HairParams* mate
 // ~/.cache/plumage/farfield; empty (no disk cache) when none of them is set.
 std::filesystem::path farfield_cache_dir();
 
+// The fit settings scenes and renders use: the defaults, with paths_per_bin from
+// $PLUMAGE_FARFIELD_PATHS when set (2 to 10^7; otherwise plumage::Error naming it).
+FarfieldFitSettings farfield_fit_settings();
+
 // The model for a geometry (and material; nullptr: transmittance only): from this
 // process's memory, else from the cache directory (a file named by the key's hash,
 // whose stored key must match), else measured and written there atomically. A
 // cache file that cannot be read or fails a check is reported in one line on
 // stderr and refitted, never trusted. `cache_dir` empty: no disk cache.
 std::shared_ptr<const FarfieldModel> farfield_model(const FarfieldGeometry& g, const HairParams* material,
-                                                    const FarfieldFitSettings& s = {},
+                                                    const FarfieldFitSettings& s = farfield_fit_settings(),
                                                     const std::filesystem::path& cache_dir = farfield_cache_dir());
 
 // Forgets the models held in memory (tests: the next call reads the disk cache).
