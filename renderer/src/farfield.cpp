@@ -82,13 +82,18 @@ int FarfieldBins::antipode(int b) const {
   return (nu - 1 - iu) * nphi + (ip + nphi / 2) % nphi;
 }
 
-FarfieldBins::Lerp FarfieldBins::lerp(const glm::vec3& d) const {
+FarfieldBins::Lerp FarfieldBins::lerp(const glm::vec3& d, int* bin) const {
   Lerp l{{0, 0, 0, 0}, {0, 0, 0, 0}};
+  if (bin) *bin = -1;
   const float len2 = glm::dot(d, d);
   if (!(len2 > 0) || !std::isfinite(len2)) return l;
   const float x = std::clamp(d.x / std::sqrt(len2), -1.0f, 1.0f);
-  const float fx = std::clamp((x + 1) * 0.5f * float(nu) - 0.5f, 0.0f, float(nu - 1));
-  const float fp = (std::atan2(d.y, d.z) + kPi) / (2 * kPi) * float(nphi) - 0.5f;
+  // The same arithmetic as bin(), so the two agree on every direction.
+  const float ux = (x + 1) * 0.5f * float(nu);
+  const float up = (std::atan2(d.y, d.z) + kPi) / (2 * kPi) * float(nphi);
+  if (bin) *bin = std::clamp(int(ux), 0, nu - 1) * nphi + std::clamp(int(up), 0, nphi - 1);
+  const float fx = std::clamp(ux - 0.5f, 0.0f, float(nu - 1));
+  const float fp = up - 0.5f;
   const int i0 = std::min(int(fx), nu - 1), i1 = std::min(i0 + 1, nu - 1);
   const float tx = fx - float(i0);
   const float fpf = std::floor(fp);
@@ -157,42 +162,50 @@ void FarfieldModel::build_cdfs() {
   }
 }
 
-glm::vec3 FarfieldModel::f_cos(const glm::vec3& wo, const glm::vec3& wi, float* pdf) const {
-  *pdf = 0;
-  const FarfieldBins::Lerp lo = bins.lerp(wo), li = bins.lerp(wi);
-  const int I = bins.bin(wi);
-  if (I < 0 || !(lo.w[0] + lo.w[1] + lo.w[2] + lo.w[3] > 0)) return glm::vec3(0);
+FarfieldModel::Outgoing FarfieldModel::outgoing(const glm::vec3& wo) const {
+  Outgoing o;
+  o.lo = bins.lerp(wo);
   const std::size_t n = std::size_t(bins.count());
-  // The sampling density: rows chosen by their interpolation weight (black rows
-  // left out), a bin of the row by its cdf, uniform within the bin.
-  float row_mass = 0, p = 0;
-  glm::vec3 f(0);
-  float keep = 1;
+  o.keep = 1;
   for (int k = 0; k < 4; ++k) {
-    const std::size_t O = std::size_t(lo.b[k]);
-    keep -= lo.w[k] * T[O];
-    const float* c = &cdf_[O * (n + 1)];
-    if (c[n] > 0 && lo.w[k] > 0) {
-      row_mass += lo.w[k];
-      p += lo.w[k] * (c[I + 1] - c[I]) / c[n];
-    }
-    for (int j = 0; j < 4; ++j) f += (lo.w[k] * li.w[j]) * F[std::size_t(li.b[j]) * n + O];
+    const std::size_t O = std::size_t(o.lo.b[k]);
+    o.keep -= o.lo.w[k] * T[O];
+    if (o.lo.w[k] > 0 && cdf_[O * (n + 1) + n] > 0) o.row_mass += o.lo.w[k];
   }
-  if (row_mass > 0) *pdf = p / (row_mass * bins.solid_angle());
-  if (!(keep > 0)) return glm::vec3(0);
-  return f * (std::fabs(wi.z) / std::sqrt(glm::dot(wi, wi)) / keep);
+  if (!(o.lo.w[0] + o.lo.w[1] + o.lo.w[2] + o.lo.w[3] > 0)) o.keep = 0;  // a bad wo
+  return o;
 }
 
-bool FarfieldModel::sample(const glm::vec3& wo, const glm::vec3& u, glm::vec3* wi, glm::vec3* weight,
+glm::vec3 FarfieldModel::f_cos(const Outgoing& o, const glm::vec3& wi, float* pdf) const {
+  if (pdf) *pdf = 0;
+  int I;
+  const FarfieldBins::Lerp li = bins.lerp(wi, &I);
+  if (I < 0 || !(o.keep > 0)) return glm::vec3(0);
+  const std::size_t n = std::size_t(bins.count());
+  glm::vec3 f(0);
+  float p = 0;
+  for (int k = 0; k < 4; ++k) {
+    if (!(o.lo.w[k] > 0)) continue;
+    const std::size_t O = std::size_t(o.lo.b[k]);
+    glm::vec3 fk(0);
+    for (int j = 0; j < 4; ++j) fk += li.w[j] * F[std::size_t(li.b[j]) * n + O];
+    f += o.lo.w[k] * fk;
+    // The sampling density: rows chosen by their interpolation weight (black rows
+    // left out), a bin of the row by its cdf, uniform within the bin.
+    const float* c = &cdf_[O * (n + 1)];
+    if (pdf && c[n] > 0) p += o.lo.w[k] * (c[I + 1] - c[I]) / c[n];
+  }
+  if (pdf && o.row_mass > 0) *pdf = p / (o.row_mass * bins.solid_angle());
+  return f * (std::fabs(wi.z) / std::sqrt(glm::dot(wi, wi)) / o.keep);
+}
+
+bool FarfieldModel::sample(const Outgoing& o, const glm::vec3& u, glm::vec3* wi, glm::vec3* weight,
                            float* pdf) const {
-  const FarfieldBins::Lerp lo = bins.lerp(wo);
+  const FarfieldBins::Lerp& lo = o.lo;
   const int n = bins.count();
-  float row_mass = 0;
-  for (int k = 0; k < 4; ++k)
-    if (lo.w[k] > 0 && cdf_[std::size_t(lo.b[k]) * (n + 1) + n] > 0) row_mass += lo.w[k];
-  if (!(row_mass > 0)) return false;
+  if (!(o.row_mass > 0)) return false;
   // u.z picks the row, and what is left of it (rescaled to [0,1)) the bin.
-  float v = u.z * row_mass;
+  float v = u.z * o.row_mass;
   int k = -1;
   for (int j = 0; j < 4; ++j) {
     if (!(lo.w[j] > 0 && cdf_[std::size_t(lo.b[j]) * (n + 1) + n] > 0)) continue;
@@ -200,6 +213,7 @@ bool FarfieldModel::sample(const glm::vec3& wo, const glm::vec3& u, glm::vec3* w
     if (v < lo.w[j]) break;
     v -= lo.w[j];
   }
+  if (k < 0) return false;
   v = std::clamp(v / lo.w[k], 0.0f, 1.0f);
   const float* c = &cdf_[std::size_t(lo.b[k]) * (n + 1)];
   const float target = v * c[n];
@@ -209,7 +223,7 @@ bool FarfieldModel::sample(const glm::vec3& wo, const glm::vec3& u, glm::vec3* w
   while (I < n - 1 && !(c[I + 1] > c[I])) ++I;
   if (!(c[I + 1] > c[I])) return false;
   *wi = bins.direction(I, {u.x, u.y});
-  const glm::vec3 fc = f_cos(wo, *wi, pdf);
+  const glm::vec3 fc = f_cos(o, *wi, pdf);
   if (!(*pdf > 0)) return false;
   *weight = fc / *pdf;
   return true;

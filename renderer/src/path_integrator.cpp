@@ -98,15 +98,19 @@ struct FarfieldScatter final : Scatter {
   using Scatter::f_cos;
   const FarfieldModel& model;
   Frame frame;
-  glm::vec3 wo_local;
+  FarfieldModel::Outgoing out;  // what depends on wo alone, once per hit
   FarfieldScatter(const FarfieldModel& m, const Frame& f, const glm::vec3& wo)
-      : model(m), frame(f), wo_local(f.to_local(wo)) {}
+      : model(m), frame(f), out(m.outgoing(f.to_local(wo))) {}
   glm::vec3 f_cos(const glm::vec3& wi, float* pdf) const override {
-    return model.f_cos(wo_local, frame.to_local(wi), pdf);
+    return model.f_cos(out, frame.to_local(wi), pdf);
+  }
+  // Values only (no pdfs): next-event estimation's weighing of every light.
+  void f_cos(std::span<const glm::vec3> wi, std::span<glm::vec3> fc) const override {
+    for (std::size_t k = 0; k < wi.size(); ++k) fc[k] = model.f_cos(out, frame.to_local(wi[k]), nullptr);
   }
   bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const override {
     glm::vec3 wl;
-    if (!model.sample(wo_local, {u.x, u.y, u.z}, &wl, weight, pdf)) return false;
+    if (!model.sample(out, {u.x, u.y, u.z}, &wl, weight, pdf)) return false;
     *wi = glm::normalize(frame.to_world(wl));
     return true;
   }

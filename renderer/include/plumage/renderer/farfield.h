@@ -53,11 +53,12 @@ struct FarfieldBins {
   int antipode(int b) const;
   // Bilinear weights of the four bins whose centres surround a direction in
   // (x, phi) (phi wraps; x is clamped at the poles); weights 0 for a bad direction.
+  // `bin`, when given, receives bin(local) (-1 for a bad direction).
   struct Lerp {
     int b[4];
     float w[4];
   };
-  Lerp lerp(const glm::vec3& local) const;
+  Lerp lerp(const glm::vec3& local, int* bin = nullptr) const;
 };
 
 // What the table stands for: a vane's substructure, its barbule period along the
@@ -100,13 +101,25 @@ class FarfieldModel {
   // Straight transmittance along a local direction (either sense; interpolated); 1
   // for a bad one.
   float transmittance(const glm::vec3& local) const;
+  // The terms of f_cos and sample that depend on wo alone (a shading point asks
+  // for many wi with one wo).
+  struct Outgoing {
+    FarfieldBins::Lerp lo;
+    float keep = 0;      // 1 - T(wo)
+    float row_mass = 0;  // interpolation weight of wo's non-black rows
+  };
+  Outgoing outgoing(const glm::vec3& wo) const;
   // f(wi, wo) |wi.n| / (1 - T(wo)) for local unit directions (wo toward the viewer,
-  // wi toward the light), and in *pdf the density sample() gives wi.
-  glm::vec3 f_cos(const glm::vec3& wo, const glm::vec3& wi, float* pdf) const;
+  // wi toward the light), and in *pdf (when not null) the density sample() gives wi.
+  glm::vec3 f_cos(const glm::vec3& wo, const glm::vec3& wi, float* pdf) const { return f_cos(outgoing(wo), wi, pdf); }
+  glm::vec3 f_cos(const Outgoing& o, const glm::vec3& wi, float* pdf) const;
   // Samples wi for wo: u.z picks one of the rows wo interpolates and then a bin of
   // that row in proportion to its energy, u.x and u.y a direction uniformly in the
   // bin. False when wo's rows are black. *weight = f_cos / pdf, pdf the mixture's.
-  bool sample(const glm::vec3& wo, const glm::vec3& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const;
+  bool sample(const glm::vec3& wo, const glm::vec3& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const {
+    return sample(outgoing(wo), u, wi, weight, pdf);
+  }
+  bool sample(const Outgoing& o, const glm::vec3& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const;
   // Scattered fraction for light from bin I's centre: sum_O F[I][O] H_O, H_O the
   // integral of bin O's interpolation weight times |d.n| over the sphere.
   glm::vec3 albedo(int I) const;
