@@ -1,6 +1,8 @@
 #pragma once
-// Chi-square p-values for the sampling tests (hair BCSDF, far-field model).
+// Chi-square tests for the sampling tests (hair BCSDF, far-field model).
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace plumage::test {
 
@@ -30,6 +32,34 @@ inline double gamma_q(double a, double x) {
     if (std::abs(delta - 1) < 1e-15) break;
   }
   return std::exp(log_prefix) * h;
+}
+
+// Pearson's chi-square of observed counts against expected ones, cells expecting
+// fewer than 5 pooled into one; `total_expected` (the expected counts' sum) lets a
+// test check that the pdf integrates to 1.
+struct ChiSquare {
+  double chi2 = 0, total_expected = 0, pvalue = 1;
+  int dof = -1;
+};
+inline ChiSquare pearson_pooled(const std::vector<double>& expected, const std::vector<double>& observed) {
+  ChiSquare r;
+  double pooled_e = 0, pooled_o = 0;
+  for (std::size_t k = 0; k < expected.size(); ++k) {
+    r.total_expected += expected[k];
+    if (expected[k] < 5) {
+      pooled_e += expected[k];
+      pooled_o += observed[k];
+      continue;
+    }
+    r.chi2 += (observed[k] - expected[k]) * (observed[k] - expected[k]) / expected[k];
+    ++r.dof;
+  }
+  if (pooled_e > 0) {
+    r.chi2 += (pooled_o - pooled_e) * (pooled_o - pooled_e) / std::max(pooled_e, 5.0);
+    ++r.dof;
+  }
+  r.pvalue = gamma_q(0.5 * r.dof, 0.5 * r.chi2);
+  return r;
 }
 
 }  // namespace plumage::test
