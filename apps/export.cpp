@@ -85,7 +85,7 @@ const Registration kExport{
       sub.add_option("-o,--output", args->output, "The file to write")->required();
       sub.add_option("-f,--format", args->format, "fcurves, pbrt, pbrt-v3, mitsuba, obj or blender")
           ->check(CLI::IsMember({"fcurves", "pbrt", "pbrt-v3", "mitsuba", "obj", "blender"}));
-      sub.add_option("--shading", args->shading, "The plumage mode the scene reproduces: hair, or substructure/explicit (exported as hair)")
+      sub.add_option("--shading", args->shading, "The plumage mode the scene reproduces: hair, or substructure/explicit/farfield (exported as hair)")
           ->capture_default_str();
       ViewOptions& v = args->view;
       sub.add_option("--lights", v.lights, "Dome LEDs that are on: all, none, or numbers 1..25 (e.g. 1,5,12 or 2-9)")->capture_default_str();

@@ -130,7 +130,7 @@ const Registration kRender{
           "See docs/rendering.md.");
       sub.add_option("input", o->input, "Feather curve file (.fcurves)")->required();
       sub.add_option("-o,--output", o->output, "Output image: .exr (linear float) or .png (sRGB 8-bit)")->required();
-      sub.add_option("--shading", o->shading, "Barb shading: hair (fibres, production practice), substructure (Baron et al. 2021; docs/substructure.md) or explicit (rami and barbules as real curves: the slow reference)")
+      sub.add_option("--shading", o->shading, "Barb shading: hair (fibres, production practice), substructure (Baron et al. 2021; docs/substructure.md) explicit (rami and barbules as real curves: the slow reference) or farfield (ribbons shaded by a table measured on the explicit geometry; fitted once, cached in $PLUMAGE_FARFIELD_CACHE)")
           ->capture_default_str()
           ->check(one_of(kShadingModes));
       sub.add_option("--aov", o->aov, "Write an AOV instead of the beauty image: 'structure' colours ramus, distal and proximal barbules and gaps (needs --shading substructure or explicit)")

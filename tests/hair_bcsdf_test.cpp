@@ -10,6 +10,7 @@
 #include <sstream>
 #include <vector>
 
+#include "chi_square.h"
 #include "hair_terms.h"
 #include "plumage/common/error.h"
 #include "plumage/renderer/hair_bcsdf.h"
@@ -76,33 +77,6 @@ std::string describe(const HairParams& p, float h, const glm::vec3& wo) {
   return s.str();
 }
 
-// Regularised upper incomplete gamma Q(a, x) (Abramowitz & Stegun 6.5.29 series for
-// x < a + 1, Legendre's continued fraction 6.5.31 otherwise), for chi-square p-values.
-double gamma_q(double a, double x) {
-  if (x <= 0) return 1.0;
-  const double log_prefix = a * std::log(x) - x - std::lgamma(a);
-  if (x < a + 1) {
-    double term = 1.0 / a, sum = term;
-    for (int n = 1; n < 100000 && term > sum * 1e-15; ++n) sum += term *= x / (a + n);
-    return 1.0 - sum * std::exp(log_prefix);
-  }
-  // Modified Lentz evaluation of the continued fraction.
-  const double tiny = 1e-300;
-  double b = x + 1 - a, c = 1 / tiny, d = 1 / b, h = d;
-  for (int i = 1; i < 100000; ++i) {
-    const double an = -i * (i - a);
-    b += 2;
-    d = an * d + b;
-    if (std::abs(d) < tiny) d = tiny;
-    c = b + an / c;
-    if (std::abs(c) < tiny) c = tiny;
-    d = 1 / d;
-    const double delta = d * c;
-    h *= delta;
-    if (std::abs(delta - 1) < 1e-15) break;
-  }
-  return std::exp(log_prefix) * h;
-}
 
 }  // namespace
 
@@ -327,25 +301,9 @@ TEST(HairBCSDF, SamplingMatchesPdfChiSquare) {
       const int b = std::clamp(int((phi + kPi) / dphi), 0, nphi - 1);
       observed[a * nphi + b] += 1;
     }
-    double chi2 = 0, pooled_e = 0, pooled_o = 0, total_e = 0;
-    int dof = -1;
-    for (size_t k = 0; k < expected.size(); ++k) {
-      total_e += expected[k];
-      if (expected[k] < 5) {
-        pooled_e += expected[k];
-        pooled_o += observed[k];
-        continue;
-      }
-      chi2 += (observed[k] - expected[k]) * (observed[k] - expected[k]) / expected[k];
-      ++dof;
-    }
-    if (pooled_e > 0) {
-      chi2 += (pooled_o - pooled_e) * (pooled_o - pooled_e) / std::max(pooled_e, 5.0);
-      ++dof;
-    }
-    EXPECT_NEAR(total_e / nsamples, 1.0, 2e-3) << "pdf does not integrate to 1: " << describe(p, h, wo);
-    const double pvalue = gamma_q(0.5 * dof, 0.5 * chi2);
-    EXPECT_GT(pvalue, alpha) << "chi2=" << chi2 << " dof=" << dof << " " << describe(p, h, wo);
+    const test::ChiSquare cs = test::pearson_pooled(expected, observed);
+    EXPECT_NEAR(cs.total_expected / nsamples, 1.0, 2e-3) << "pdf does not integrate to 1: " << describe(p, h, wo);
+    EXPECT_GT(cs.pvalue, alpha) << "chi2=" << cs.chi2 << " dof=" << cs.dof << " " << describe(p, h, wo);
   }
 }
 
@@ -377,7 +335,7 @@ TEST(HairBCSDF, ChiSquareRejectsAWrongDistribution) {
       chi2 += (observed[a * nphi + b] - e) * (observed[a * nphi + b] - e) / e;
       ++dof;
     }
-  EXPECT_LT(gamma_q(0.5 * dof, 0.5 * chi2), 1e-6);
+  EXPECT_LT(test::gamma_q(0.5 * dof, 0.5 * chi2), 1e-6);
 }
 
 // --- importance sampling against uniform sampling with absorption ---------------------

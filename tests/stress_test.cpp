@@ -280,7 +280,8 @@ Feather with_substructure(Feather f) {
 Feather for_mode(const Feather& f, ShadingMode m) { return m == ShadingMode::Hair ? f : with_substructure(f); }
 
 const char* name(ShadingMode m) { return to_string(m); }
-constexpr ShadingMode kModes[] = {ShadingMode::Hair, ShadingMode::Substructure, ShadingMode::Explicit};
+constexpr ShadingMode kModes[] = {ShadingMode::Hair, ShadingMode::Substructure, ShadingMode::Explicit,
+                                  ShadingMode::Farfield};
 
 // A feather whose every curve is moved by `offset`.
 Feather moved(Feather f, const glm::vec3& offset) {

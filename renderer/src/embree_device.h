@@ -21,6 +21,20 @@ struct Scene::Embree {
   }
 };
 
+// A filter function's candidate i: its ray's origin and direction, and (Embree
+// stores it in tfar during filtering) the candidate hit's distance.
+struct FilterCandidate {
+  glm::vec3 o, d;
+  float t;
+  FilterCandidate(const RTCFilterFunctionNArguments* args, unsigned i)
+      : o(RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+          RTCRayN_org_z(args->ray, args->N, i)),
+        d(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+          RTCRayN_dir_z(args->ray, args->N, i)),
+        t(RTCRayN_tfar(args->ray, args->N, i)) {}
+  glm::vec3 point() const { return o + t * d; }
+};
+
 // Ray id bit: keep hits in the gaps (the structure AOV wants to see them).
 inline constexpr unsigned kKeepGapsId = 1u;
 
@@ -29,5 +43,7 @@ inline constexpr unsigned kKeepGapsId = 1u;
 // tallied to the shared counter (called once per query).
 void attach_gap_filter(RTCGeometry geom, const Scene* scene);
 void flush_gap_rejections();
+// Farfield mode (farfield_scene.cpp): installs the stochastic pass-through filter.
+void attach_farfield_filter(RTCGeometry geom, const Scene* scene);
 
 }  // namespace plumage

@@ -92,6 +92,30 @@ struct FibreScatter final : Scatter {
   }
 };
 
+// A far-field ribbon hit (farfield.h): the vane's table in the barb's frame, given
+// that the ray was not let through.
+struct FarfieldScatter final : Scatter {
+  using Scatter::f_cos;
+  const FarfieldModel& model;
+  Frame frame;
+  FarfieldModel::Outgoing out;  // what depends on wo alone, once per hit
+  FarfieldScatter(const FarfieldModel& m, const Frame& f, const glm::vec3& wo)
+      : model(m), frame(f), out(m.outgoing(f.to_local(wo))) {}
+  glm::vec3 f_cos(const glm::vec3& wi, float* pdf) const override {
+    return model.f_cos(out, frame.to_local(wi), pdf);
+  }
+  // Values only (no pdfs): next-event estimation's weighing of every light.
+  void f_cos(std::span<const glm::vec3> wi, std::span<glm::vec3> fc) const override {
+    for (std::size_t k = 0; k < wi.size(); ++k) fc[k] = model.f_cos(out, frame.to_local(wi[k]), nullptr);
+  }
+  bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const override {
+    glm::vec3 wl;
+    if (!model.sample(out, {u.x, u.y, u.z}, &wl, weight, pdf)) return false;
+    *wi = glm::normalize(frame.to_world(wl));
+    return true;
+  }
+};
+
 // One shadow ray to light i, chosen with probability `pick`: its contribution
 // f cos Le / (pick pdf), MIS-weighted against BCSDF sampling (power heuristic).
 glm::vec3 direct_light(const Scene& scene, const LightSet& lights, const SurfaceHit& hit, const Scatter& bsdf,
@@ -190,6 +214,14 @@ PathIntegrator::PathIntegrator(const Scene& scene, const LightSet& lights, const
                                const IntegratorSettings& settings)
     : scene_(scene), lights_(lights), material_(material), settings_(settings) {
   if (settings_.light_picks < 1) throw Error("light picks per vertex must be at least 1");
+  if (scene_.options().mode == ShadingMode::Farfield) {
+    // One table per vane and barb class, for the material where the feather's
+    // middle is (a texture's variation over the feather is not fitted).
+    const HairParams hp = material_.at(scene_.feather_bounds().centre());
+    for (VaneSide side : {VaneSide::Left, VaneSide::Right})
+      for (const FarfieldGeometry& g : scene_.farfield_geometries(side))
+        farfield_[side == VaneSide::Right].push_back(farfield_model(g, &hp));
+  }
 }
 
 glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& counters) const {
@@ -226,8 +258,12 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
     const glm::vec3 wo = -ray.d;
     std::optional<DiffuseScatter> diffuse;
     std::optional<FibreScatter> fibre;
+    std::optional<FarfieldScatter> farfield;
     const Scatter* bsdf;
-    if (hit.kind == HitKind::Backdrop) {
+    if (hit.kind == HitKind::Barb && scene_.options().mode == ShadingMode::Farfield) {
+      const bool right = scene_.feather().curves[hit.curve].side == VaneSide::Right;
+      bsdf = &farfield.emplace(*farfield_[right][scene_.farfield_class(hit)], scene_.farfield_frame(hit), wo);
+    } else if (hit.kind == HitKind::Backdrop) {
       bsdf = &diffuse.emplace(safe_normalize(hit.ng), wo, scene_.options().backdrop.albedo);
     } else {
       bsdf = &fibre.emplace(fibre_frame_at(hit, wo), material_.at(hit.p, scene_.structure_coverage(hit)), wo);

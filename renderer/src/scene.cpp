@@ -67,15 +67,17 @@ Scene::Scene(const Feather& feather, const SceneOptions& options)
   culled_ = std::size_t(std::count(keep_.begin(), keep_.end(), 0));
   g_culled += std::int64_t(culled_);
 
-  if (options_.mode == ShadingMode::Substructure) build_substructure();
+  if (options_.mode == ShadingMode::Substructure) build_substructure("--shading substructure");
+  if (options_.mode == ShadingMode::Farfield) build_farfield();
 
   add_curves(shaft_, CurveKind::Shaft, RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE);
   if (options_.mode == ShadingMode::Explicit)
     build_explicit();
   else
     add_curves(barbs_, CurveKind::Barb,
-               options_.mode == ShadingMode::Substructure ? RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE
-                                                          : RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE);
+               options_.mode == ShadingMode::Substructure || options_.mode == ShadingMode::Farfield
+                   ? RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE
+                   : RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE);
   scene_bounds_ = bounds_;
   if (options_.backdrop.enabled) add_backdrop();
   // A few float ulps at the scene's coordinates: spawn's margins (once, not per ray).
@@ -123,7 +125,10 @@ void Scene::commit_curves(CurveGeometry& g, int rtc_type) {
   if (rtc_type == RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE) {
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, barb_normals_.data(), 0,
                                sizeof(glm::vec3), barb_normals_.size());
-    attach_gap_filter(geom, this);
+    if (options_.mode == ShadingMode::Farfield)
+      attach_farfield_filter(geom, this);
+    else
+      attach_gap_filter(geom, this);
   }
   rtcCommitGeometry(geom);
   g.id = rtcAttachGeometry(rtc_->scene, geom);

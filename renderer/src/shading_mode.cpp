@@ -8,6 +8,7 @@ const char* to_string(ShadingMode m) {
   switch (m) {
     case ShadingMode::Substructure: return "substructure";
     case ShadingMode::Explicit: return "explicit";
+    case ShadingMode::Farfield: return "farfield";
     case ShadingMode::Hair: break;
   }
   return "hair";
@@ -16,7 +17,7 @@ const char* to_string(ShadingMode m) {
 ShadingMode parse_shading_mode(const std::string& s) {
   for (ShadingMode m : kShadingModes)
     if (s == to_string(m)) return m;
-  throw Error("unknown shading mode '" + s + "': use 'hair', 'substructure' or 'explicit'");
+  throw Error("unknown shading mode '" + s + "': use 'hair', 'substructure', 'explicit' or 'farfield'");
 }
 
 }  // namespace plumage

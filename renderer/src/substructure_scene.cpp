@@ -39,12 +39,7 @@ struct SubstructureFilter {
     for (unsigned i = 0; i < args->N; ++i) {
       if (!args->valid[i]) continue;
       if (RTCRayN_id(args->ray, args->N, i) & kKeepGapsId) continue;
-      const glm::vec3 o(RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
-                        RTCRayN_org_z(args->ray, args->N, i));
-      const glm::vec3 d(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
-                        RTCRayN_dir_z(args->ray, args->N, i));
-      // During filtering Embree stores the candidate hit distance in tfar.
-      const glm::vec3 p = o + RTCRayN_tfar(args->ray, args->N, i) * d;
+      const glm::vec3 p = FilterCandidate(args, i).point();
       const std::uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
       const StructureSample ss = scene->ribbon_point(prim, RTCHitN_u(args->hit, args->N, i), p, false);
       const Scene::RibbonSegment& rs = scene->ribbon_segments_[prim];
@@ -81,8 +76,8 @@ const BarbSubstructure& Scene::vane_of(std::uint32_t curve) const {
   return feather_.curves[curve].side == VaneSide::Right ? *right_ : *left_;
 }
 
-void Scene::build_substructure() {
-  make_vanes("--shading substructure");
+void Scene::build_substructure(const char* what) {
+  make_vanes(what);
   for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci) {
     const Curve& c = feather_.curves[ci];
     if (c.kind != CurveKind::Barb || !keep_[ci]) continue;

@@ -4,9 +4,12 @@
 // Guibas 1995, power heuristic), and Russian roulette. Fibres are shaded with the
 // hair BCSDF in their own frame; the backdrop is a two-sided lambertian card.
 #include <cstdint>
+#include <memory>
+#include <vector>
 
 #include <glm/glm.hpp>
 
+#include "plumage/renderer/farfield.h"
 #include "plumage/renderer/fibre_frame.h"
 #include "plumage/renderer/fibre_material.h"
 #include "plumage/renderer/light_set.h"
@@ -34,7 +37,8 @@ struct PathCounters {
 
 class PathIntegrator {
  public:
-  // Throws plumage::Error for settings.light_picks < 1.
+  // Throws plumage::Error for settings.light_picks < 1. In farfield mode, fits (or
+  // reads from the cache) each vane's table for the material at the feather's centre.
   PathIntegrator(const Scene& scene, const LightSet& lights, const FibreMaterial& material,
                  const IntegratorSettings& settings);
 
@@ -49,6 +53,7 @@ class PathIntegrator {
   const LightSet& lights_;
   const FibreMaterial& material_;
   IntegratorSettings settings_;
+  std::vector<std::shared_ptr<const FarfieldModel>> farfield_[2];  // farfield mode: left, right vane, per class
 };
 
 // Veach's power heuristic (beta = 2) for one sample of each of two strategies.

@@ -23,6 +23,7 @@
 #include "plumage/common/feather.h"
 #include "plumage/renderer/backdrop.h"
 #include "plumage/renderer/explicit_geometry.h"
+#include "plumage/renderer/farfield.h"
 #include "plumage/renderer/ray.h"
 #include "plumage/renderer/shading_mode.h"
 #include "plumage/renderer/substructure.h"
@@ -66,6 +67,16 @@ class Scene {
   StructureSample structure_at(const SurfaceHit& hit) const;
   // Explicit mode, a barb hit: the ramus or barbule curve it landed on.
   const ExplicitFibre& explicit_fibre(const SurfaceHit& hit) const;
+  // Farfield mode, a barb hit: the barb's frame with b turned to the distal side
+  // (the far-field table's frame, farfield.h).
+  Frame farfield_frame(const SurfaceHit& hit) const;
+  // Farfield mode: what a vane's tables stand for (its substructure and a barbule
+  // period per class of barbs; empty for a vane without barbs in the scene), and
+  // the class of a barb hit (its index there).
+  const std::vector<FarfieldGeometry>& farfield_geometries(VaneSide side) const {
+    return farfield_geometry_[side == VaneSide::Right];
+  }
+  std::size_t farfield_class(const SurfaceHit& hit) const { return farfield_class_[hit.prim]; }
   // Explicit mode: the curves built (rami and barbules) and the bytes of their data.
   std::size_t explicit_curves() const { return explicit_fibres_.size(); }
   std::size_t explicit_bytes() const { return explicit_bytes_; }
@@ -114,14 +125,16 @@ class Scene {
   // One BarbSubstructure per vane that has barbs, validated (`what` names the mode).
   void make_vanes(const char* what);
   const BarbSubstructure& vane_of(std::uint32_t curve) const;
-  void build_substructure();
+  void build_substructure(const char* what);
   void build_explicit();
+  void build_farfield();
   // s and w of a point on a barb ribbon; the barb's frame too when `full_frame`.
   StructureSample ribbon_point(std::uint32_t prim, float u, const glm::vec3& p, bool full_frame) const;
   void add_backdrop();
   const CurveGeometry* curve_geometry(std::uint32_t geom) const;
   friend struct SceneFilter;
   friend struct SubstructureFilter;
+  friend struct FarfieldFilter;
 
   Feather feather_;
   SceneOptions options_;
@@ -140,6 +153,9 @@ class Scene {
   std::vector<ExplicitFibre> explicit_fibres_;  // explicit mode; control points live in barbs_
   std::size_t explicit_bytes_ = 0;
   std::vector<float> explicit_coverage_;  // explicit mode: per feather curve, the ribbon coverage substructure mode gives it
+  std::vector<FarfieldGeometry> farfield_geometry_[2];               // farfield mode: left, right, per class
+  std::vector<std::shared_ptr<const FarfieldModel>> farfield_T_[2];  // their straight transmittance
+  std::vector<std::uint8_t> farfield_class_;                         // per barb primitive
   std::vector<char> keep_;  // per feather curve: in the BVH
   std::size_t culled_ = 0;
 };

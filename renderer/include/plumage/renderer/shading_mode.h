@@ -5,16 +5,19 @@
 //                 locate rami and barbules (substructure.h; docs/substructure.md).
 //   Explicit:     rami and barbules as real round curves (explicit_geometry.h), the
 //                 reference the substructure technique is measured against.
+//   Farfield:     each barb is a ribbon in the vane shaded by a table measured on its
+//                 explicit geometry (farfield.h; docs/substructure.md "Far-field model").
 #include <string>
 
 namespace plumage {
 
-enum class ShadingMode { Hair, Substructure, Explicit };
+enum class ShadingMode { Hair, Substructure, Explicit, Farfield };
 // Every mode, in the order the CLI lists them.
-inline constexpr ShadingMode kShadingModes[] = {ShadingMode::Hair, ShadingMode::Substructure, ShadingMode::Explicit};
+inline constexpr ShadingMode kShadingModes[] = {ShadingMode::Hair, ShadingMode::Substructure, ShadingMode::Explicit,
+                                                ShadingMode::Farfield};
 
 const char* to_string(ShadingMode m);
-// "hair", "substructure" or "explicit"; throws plumage::Error otherwise.
+// "hair", "substructure", "explicit" or "farfield"; throws plumage::Error otherwise.
 ShadingMode parse_shading_mode(const std::string& s);
 
 }  // namespace plumage
