@@ -5,6 +5,8 @@
 
 #include <filesystem>
 
+#include "shared_photos.h"
+
 #include "../tests/synthetic_feather.h"
 #include "plumage/generator/analysis/analyze.h"
 
@@ -12,13 +14,9 @@ namespace fs = std::filesystem;
 using namespace plumage;
 
 static void BM_AnalyzePinkFeatherPhoto(benchmark::State& state) {
-  const fs::path photo =
-      (fs::path(PLUMAGE_DATA_DIR) / ".." / ".." / "shared" / "photos" / "pink-contour-feather.jpg")
-          .lexically_normal();
-  if (!fs::exists(photo)) {
-    state.SkipWithError("shared photos absent");
-    return;
-  }
+  const auto found = bench::shared_photo(state, "pink-contour-feather.jpg");
+  if (!found) return;
+  const fs::path photo = *found;
   for (auto _ : state) benchmark::DoNotOptimize(analyze_photo(photo, AnalyzeOptions{}));
 }
 BENCHMARK(BM_AnalyzePinkFeatherPhoto)->Unit(benchmark::kMillisecond)->Iterations(3);
@@ -38,16 +36,12 @@ static void BM_AnalyzeSynthetic12MP(benchmark::State& state) {
 }
 BENCHMARK(BM_AnalyzeSynthetic12MP)->Unit(benchmark::kMillisecond)->Iterations(2);
 
-// Issue 11 aim: a 1500x1056 sheet of many feathers (the blue-jay sheet: 47 regions,
-// 38 analysed) in <= 1.5 s on 2 cores. Decode plus analysis, no writing.
+// Issue 11 aim: a 1500x1056 sheet of many feathers (the blue-jay sheet: 52 regions,
+// 46 analysed) in <= 1.5 s on 2 cores. Decode plus analysis, no writing.
 static void BM_AnalyzeBlueJaySheet(benchmark::State& state) {
-  const fs::path photo =
-      (fs::path(PLUMAGE_DATA_DIR) / ".." / ".." / "shared" / "photos" / "blue-jay-feather-sheet.jpg")
-          .lexically_normal();
-  if (!fs::exists(photo)) {
-    state.SkipWithError("shared photos absent");
-    return;
-  }
+  const auto found = bench::shared_photo(state, "blue-jay-feather-sheet.jpg");
+  if (!found) return;
+  const fs::path photo = *found;
   for (auto _ : state) benchmark::DoNotOptimize(analyze_photo(photo, AnalyzeOptions{}));
 }
 BENCHMARK(BM_AnalyzeBlueJaySheet)->Unit(benchmark::kMillisecond)->Iterations(3);

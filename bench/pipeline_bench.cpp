@@ -6,6 +6,8 @@
 
 #include <filesystem>
 
+#include "shared_photos.h"
+
 #include "plumage/common/atomic_file.h"
 #include "plumage/generator/analysis/analyze.h"
 #include "plumage/pipeline/photo_comparison.h"
@@ -14,13 +16,9 @@ namespace fs = std::filesystem;
 using namespace plumage;
 
 static void BM_PhotoToFeatherPink(benchmark::State& state) {
-  const fs::path photo =
-      (fs::path(PLUMAGE_DATA_DIR) / ".." / ".." / "shared" / "photos" / "pink-contour-feather.jpg")
-          .lexically_normal();
-  if (!fs::exists(photo)) {
-    state.SkipWithError("shared photos absent");
-    return;
-  }
+  const auto found = bench::shared_photo(state, "pink-contour-feather.jpg");
+  if (!found) return;
+  const fs::path photo = *found;
   const fs::path dir = fs::temp_directory_path() / "plumage_bench_p2f";
   fs::create_directories(dir);
   const DomeRig rig = read_dome_rig(fs::path(PLUMAGE_DATA_DIR) / "rigs" / "dome25.json");
