@@ -535,6 +535,19 @@ def clear_scene():
         bpy.data.objects.remove(ob)
 
 
+def surface_material(name, shader):
+    """A material whose surface is one new shader node; returns both."""
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    for n in list(nodes):
+        nodes.remove(n)
+    bsdf = nodes.new(shader)
+    output = nodes.new("ShaderNodeOutputMaterial")
+    mat.node_tree.links.new(bsdf.outputs["BSDF"], output.inputs["Surface"])
+    return mat, bsdf
+
+
 def build_curves():
     cu = bpy.data.curves.new("feather", "CURVE")
     cu.dimensions = "3D"
@@ -552,12 +565,7 @@ def build_curves():
     ob.select_set(True)
     bpy.ops.object.convert(target="CURVES")
     ob = bpy.context.view_layer.objects.active
-    mat = bpy.data.materials.new("plumage hair")
-    mat.use_nodes = True
-    nodes = mat.node_tree.nodes
-    for n in list(nodes):
-        nodes.remove(n)
-    hair = nodes.new("ShaderNodeBsdfHairPrincipled")
+    mat, hair = surface_material("plumage hair", "ShaderNodeBsdfHairPrincipled")
     hair.parametrization = "ABSORPTION"
     hair.inputs["Absorption Coefficient"].default_value = SIGMA_A
     hair.inputs["Roughness"].default_value = BETA_M
@@ -566,8 +574,6 @@ def build_curves():
     hair.inputs["IOR"].default_value = ETA
     hair.inputs["Offset"].default_value = math.radians(ALPHA_DEG)
     hair.inputs["Random Roughness"].default_value = 0.0
-    output = nodes.new("ShaderNodeOutputMaterial")
-    mat.node_tree.links.new(hair.outputs["BSDF"], output.inputs["Surface"])
     ob.data.materials.append(mat)
     return ob
 
@@ -593,16 +599,9 @@ def build_lights():
         mesh = bpy.data.meshes.new("card")
         mesh.from_pydata([(cx - half, cy - half, cz), (cx + half, cy - half, cz), (cx + half, cy + half, cz),
                           (cx - half, cy + half, cz)], [], [(0, 1, 2, 3)])
-        mat = bpy.data.materials.new("card")
-        mat.use_nodes = True
-        nodes = mat.node_tree.nodes
-        for n in list(nodes):
-            nodes.remove(n)
-        diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+        mat, diffuse = surface_material("card", "ShaderNodeBsdfDiffuse")
         diffuse.inputs["Color"].default_value = (*albedo, 1.0)
         diffuse.inputs["Roughness"].default_value = 0.0
-        output = nodes.new("ShaderNodeOutputMaterial")
-        mat.node_tree.links.new(diffuse.outputs["BSDF"], output.inputs["Surface"])
         mesh.materials.append(mat)
         ob = bpy.data.objects.new("card", mesh)
         bpy.context.scene.collection.objects.link(ob)

@@ -44,6 +44,17 @@ void border_statistics(const cv::Mat& bgr, cv::Vec3d& median, double& sigma) {
 
 namespace {
 
+// The outer boundary of a binary mask's largest region, in image coordinates
+// (`offset`: where the mask's top-left pixel lies); empty for an empty mask.
+std::vector<cv::Point> largest_contour(const cv::Mat& mask, cv::Point offset) {
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, offset);
+  if (contours.empty()) return {};
+  return std::move(*std::max_element(contours.begin(), contours.end(), [](const auto& a, const auto& b) {
+    return cv::contourArea(a) < cv::contourArea(b);
+  }));
+}
+
 // Where barbs end at the vane's edge the background reaches in between their
 // tips, a few pixels wide and far deep where they meet the edge at a slant. The
 // vane is one surface, so those notches are closed: a closing whose disc is
@@ -59,14 +70,9 @@ void close_barb_gaps(Component& comp) {
   cv::morphologyEx(padded, padded, cv::MORPH_CLOSE,
                    cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(k, k)), cv::Point(-1, -1), 1,
                    cv::BORDER_CONSTANT, cv::Scalar(0));
-  std::vector<std::vector<cv::Point>> contours;
-  cv::findContours(padded, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE,
-                   comp.bbox.tl() - cv::Point(k, k));
-  if (contours.empty()) return;
-  const auto largest = std::max_element(contours.begin(), contours.end(), [](const auto& a, const auto& b) {
-    return cv::contourArea(a) < cv::contourArea(b);
-  });
-  comp.contour = std::move(*largest);
+  std::vector<cv::Point> outline = largest_contour(padded, comp.bbox.tl() - cv::Point(k, k));
+  if (outline.empty()) return;
+  comp.contour = std::move(outline);
   comp.area = cv::contourArea(comp.contour);
   comp.mask.setTo(0);
   cv::drawContours(comp.mask, std::vector<std::vector<cv::Point>>{comp.contour}, 0, cv::Scalar(255),
@@ -106,22 +112,27 @@ int core_markers(const cv::Mat& mask, cv::Mat& dt, cv::Mat& markers) {
   return std::max(1, pieces);
 }
 
-// Fills a component's contour, area, hull solidity and border flag from its mask
-// (bbox-sized, at bbox's offset); false when the mask is empty.
-bool describe(Component& comp, const cv::Size& image) {
-  std::vector<std::vector<cv::Point>> contours;
-  cv::findContours(comp.mask.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, comp.bbox.tl());
-  if (contours.empty()) return false;
-  comp.contour = std::move(*std::max_element(contours.begin(), contours.end(), [](const auto& a, const auto& b) {
-    return cv::contourArea(a) < cv::contourArea(b);
-  }));
-  comp.area = cv::contourArea(comp.contour);
+// A blob's mask with a one-pixel frame of background, its distance transform and
+// its core pieces (core_markers), found once and used both to count the feathers
+// in the blob and to separate them.
+struct Cores {
+  cv::Mat mask, dt, markers;
+  int n = 1;
+};
+Cores find_cores(const cv::Mat& blob_mask) {
+  Cores c;
+  cv::copyMakeBorder(blob_mask, c.mask, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  c.n = core_markers(c.mask, c.dt, c.markers);
+  return c;
+}
+
+// A component's hull solidity and border flag, from its contour and box.
+void measure_shape(Component& comp, const cv::Size& image) {
   std::vector<cv::Point> hull;
   cv::convexHull(comp.contour, hull);
   comp.solidity = comp.area / std::max(1.0, cv::contourArea(hull));
   comp.touches_border = comp.bbox.x <= 1 || comp.bbox.y <= 1 || comp.bbox.br().x >= image.width - 1 ||
                         comp.bbox.br().y >= image.height - 1;
-  return true;
 }
 
 // Grows the labelled cores (markers > 0) over the rest of the mask, deepest
@@ -163,15 +174,15 @@ void flood_from_cores(const cv::Mat& mask, const cv::Mat& dt, cv::Mat& markers) 
 // inscribed radius). Feathers that overlap, or lie quill on tip, meet over a
 // longer line, and a watershed there hands one feather's quill or tip to the
 // other (a feather whose quill is cut off is then read backwards), so they
-// stay one region, reported as such. Every piece must also be a feather by itself: at least
-// `min_area` and kMinPiece of the largest, and filling at least
-// kMinPieceSolidity of its hull (a cut leaves a ragged edge, so lower than a
-// whole feather's kMinSolidity). Otherwise the result is empty.
+// stay one region, reported as such. Every piece must also be a feather by
+// itself: at least `min_area` and kMinPiece of the largest, and filling at least
+// kMinPieceSolidity of its hull. Otherwise the result is empty. `cores` is the
+// blob's (find_cores); its markers are flooded in place.
 constexpr double kMinPieceSolidity = 0.6, kMaxCut = 0.5;
-std::vector<Component> separate(const Component& blob, const cv::Size& image, double min_area) {
-  cv::Mat padded, dt, markers;
-  cv::copyMakeBorder(blob.mask, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
-  const int n = core_markers(padded, dt, markers);
+std::vector<Component> separate(const Component& blob, Cores& cores, const cv::Size& image, double min_area) {
+  const cv::Mat &padded = cores.mask, &dt = cores.dt;
+  cv::Mat& markers = cores.markers;
+  const int n = cores.n;
   if (n < 2) return {};
   flood_from_cores(padded, dt, markers);
   // The cut: pixels of one piece with a pixel of another among their 8
@@ -207,7 +218,10 @@ std::vector<Component> separate(const Component& blob, const cv::Size& image, do
     Component c;
     c.bbox = box + blob.bbox.tl() - cv::Point(1, 1);
     c.mask = region(box).clone();
-    if (!describe(c, image)) return {};
+    c.contour = largest_contour(c.mask, c.bbox.tl());
+    if (c.contour.empty()) return {};
+    c.area = cv::contourArea(c.contour);
+    measure_shape(c, image);
     c.separated_from = n;
     largest = std::max(largest, c.area);
     pieces.push_back(std::move(c));
@@ -333,14 +347,11 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
     cv::drawContours(comp.mask, std::vector<std::vector<cv::Point>>{comp.contour}, 0,
                      cv::Scalar(255), cv::FILLED, cv::LINE_8, cv::noArray(), 0, -comp.bbox.tl());
     close_barb_gaps(comp);
-    {
-      cv::Mat padded, dt, markers;
-      cv::copyMakeBorder(comp.mask, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
-      comp.cores = core_markers(padded, dt, markers);
-    }
-    describe(comp, bgr.size());
+    Cores cores = find_cores(comp.mask);
+    comp.cores = cores.n;
+    measure_shape(comp, bgr.size());
     if (comp.cores > 1) {
-      std::vector<Component> pieces = separate(comp, bgr.size(), min_area);
+      std::vector<Component> pieces = separate(comp, cores, bgr.size(), min_area);
       if (!pieces.empty()) {
         for (Component& c : pieces) seg.feathers.push_back(std::move(c));
         continue;
