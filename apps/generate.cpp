@@ -37,9 +37,13 @@ void check_output(const GenerateArgs& a) {
 // The feather a layout.json describes (docs/layout-format.md), its albedo texture
 // referenced relative to the curve file.
 int run_generate_from_layout(const GenerateArgs& a) {
-  check_output(a);
   const Layout layout = read_layout(a.layout);
   const FeatherLayout& f = pick_feather(layout, a.feather, a.layout);
+  if (a.print_params) {  // what the layout gives the generator, repairs included
+    std::cout << params_to_json(layout_to_params(f, a.layout).params).dump(2) << "\n";
+    if (a.output.empty()) return 0;
+  }
+  check_output(a);
   std::vector<std::string> warnings;
   FileBatch outputs;  // the curves, their albedo texture and the preview: all or none
   const Feather feather =

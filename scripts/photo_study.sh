@@ -67,6 +67,7 @@ for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
             key = ("spacing: prior" if "used the prior" in w else "spacing: other vane" if "vane's" in w
                    else "angle raised (vane widens)" if "raised where" in w else "angle held" if "held back" in w
                    else "angles < 15 deg ignored" if "below 15" in w else "angles > 90 deg ignored" if "above 90" in w
+                   else "angle outliers ignored" if "off their neighbours" in w
                    else "barb bend reduced" if "barb bend" in w else "width narrowed" if "narrowed" in w
                    else "shaft bend reduced" if "shaft bend" in w else "no confident angle" if "no station is confident" in w
                    else "other")

@@ -254,14 +254,21 @@ TEST(LayoutToParams, ExtremeMeasurementsStayInTheGeneratorsRange) {
   EXPECT_TRUE(has_warning(lp.warnings, "widths are 0"));
 }
 
-TEST(LayoutToParams, WrappedTipAnglesAreIgnoredAndTinyOnesRaised) {
+TEST(LayoutToParams, WrappedAndStrayTipAnglesAreIgnoredAndTinyOnesRaised) {
   FeatherLayout f = known_layout();
   const std::size_t n = f.stations_t.size();
   f.left.barb_angle_deg[n - 1] = 176.0;  // orientation wrapped at the tip
-  f.left.barb_angle_deg[n - 2] = 2.0;
+  f.left.barb_angle_deg[n - 2] = 2.0;    // flat enough for the tip, but not what its neighbours read
   const LayoutParams lp = layout_to_params(f, "tip.json");
   EXPECT_TRUE(has_warning(lp.warnings, "1 station(s) above 90 degrees ignored"));
-  EXPECT_TRUE(has_warning(lp.warnings, "raised to 5"));
+  EXPECT_TRUE(has_warning(lp.warnings, "1 station(s) off their neighbours along the shaft ignored"));
+  EXPECT_FALSE(has_warning(lp.warnings, "raised to 5"));
+  // A vane that reads 2 degrees everywhere: only its tip can be that flat, and
+  // that is what the whole vane gets, raised to the generator's 5.
+  std::fill(f.left.barb_angle_deg.begin(), f.left.barb_angle_deg.end(), 2.0);
+  const LayoutParams flat = layout_to_params(f, "tip.json");
+  EXPECT_TRUE(has_warning(flat.warnings, "raised to 5"));
+  EXPECT_GE(flat.params.left.angle_deg.min_value(), 5.0);
   // Toward the tip nothing rises above the measured angle (the base, where the
   // vane widens fast, is raised: ParamsFollowTheMeasurements).
   for (double x = 0.5; x <= 1.0; x += 0.01) EXPECT_LE(lp.params.left.angle_deg(x), kAngleLeft + 1e-9) << x;

@@ -23,6 +23,7 @@ struct SyntheticFeather {
   double length = 560, shaft_width = 5;
   double w_left = 60, w_right = 95;
   double theta_deg = 38, spacing = 9;
+  double barb_contrast = 0.28;  // barbs: brightness 1 - c .. 1 (times the vane colour)
   bool dark_background = false;
   double noise = 0.02;
   unsigned seed = 1;
@@ -47,7 +48,7 @@ struct SyntheticFeather {
     const int side = x < 0 ? -1 : 1;
     if (std::fabs(x) > half_width(y, side)) return 0;
     const double phase = (y - std::fabs(x) / std::tan(theta_deg * kPi / 180)) / spacing;
-    shade = 0.72 + 0.28 * std::cos(2 * kPi * phase);
+    shade = 1.0 - barb_contrast + barb_contrast * std::cos(2 * kPi * phase);
     return 1;
   }
   bool inside(glm::dvec2 p) const {

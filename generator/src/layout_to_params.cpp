@@ -298,6 +298,152 @@ int closing_barbule_count(double longest_barb_mm, const SubstructureParams& s) {
   return int(std::clamp(std::ceil(n), 1.0, 100000.0));
 }
 
+namespace {
+// The value at which the weights (summed in value order) reach half their total.
+double weighted_median(std::vector<glm::dvec2> vw) {  // (value, weight), weights > 0
+  std::sort(vw.begin(), vw.end(), [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x; });
+  double total = 0;
+  for (const auto& q : vw) total += q.y;
+  double acc = 0;
+  for (const auto& q : vw)
+    if ((acc += q.y) >= 0.5 * total) return q.x;
+  return vw.back().x;
+}
+}  // namespace
+
+AlongShaftFit smooth_along_shaft(const std::vector<double>& x, const std::vector<double>& value,
+                                 const std::vector<double>& weight, const std::vector<double>& prior,
+                                 const AlongShaftOptions& o) {
+  const std::size_t n = x.size();
+  if (value.size() != n || weight.size() != n || prior.size() != n)
+    throw Error("smooth_along_shaft: " + std::to_string(n) + " positions, " + std::to_string(value.size()) +
+                " values, " + std::to_string(weight.size()) + " weights and " + std::to_string(prior.size()) +
+                " prior values; give one of each per station");
+  if (!(o.bandwidth > 0) || !(o.min_weight > 0) || !(o.min_scale > 0) || o.iterations < 0)
+    throw Error("smooth_along_shaft: bandwidth, min_weight and min_scale must be positive, iterations >= 0");
+  AlongShaftFit fit;
+  fit.value = prior;
+  fit.outlier.assign(n, false);
+  std::vector<double> w(n, 0.0);
+  double total = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool ok = std::isfinite(x[i]) && std::isfinite(value[i]) && std::isfinite(weight[i]) && weight[i] > 0;
+    w[i] = ok ? weight[i] : 0.0;
+    total += w[i];
+  }
+  if (!(total > 0)) {
+    fit.from_prior = true;
+    return fit;
+  }
+  // The fit at x0 with reading weights a (w times robustness): a local weighted
+  // median or a local-linear regression, within the readings' range there. The
+  // window holds `min_weight` and, between readings, the nearest one on either
+  // side, so a gap is bridged by a line across it; past the last reading the
+  // fit holds its value.
+  std::vector<std::pair<double, std::size_t>> near;
+  const auto fit_at = [&](double x0, const std::vector<double>& a, bool median, double bandwidth,
+                          double min_weight) -> double {
+    near.clear();
+    double below = INFINITY, above = INFINITY;
+    for (std::size_t j = 0; j < n; ++j)
+      if (a[j] > 0) {
+        near.push_back({std::fabs(x[j] - x0), j});
+        if (x[j] < x0) below = std::min(below, x0 - x[j]);
+        if (x[j] > x0) above = std::min(above, x[j] - x0);
+      }
+    if (near.empty()) return NAN;
+    std::sort(near.begin(), near.end());
+    double acc = 0, reach = near.back().first;
+    for (const auto& [d, j] : near)
+      if ((acc += a[j]) >= min_weight) {
+        reach = d;
+        break;
+      }
+    if (std::isfinite(below) && std::isfinite(above)) reach = std::max(reach, std::max(below, above));
+    const double h = std::max(bandwidth, 1.25 * reach);
+    std::vector<glm::dvec2> vw;
+    double s0 = 0, s1 = 0, s2 = 0, t0 = 0, t1 = 0, lo = INFINITY, hi = -INFINITY;
+    for (const auto& [d, j] : near) {
+      if (d >= h) break;
+      // The median weighs every reading in the window alike (by its weight only):
+      // at the end of the shaft a tricube would let the last one or two decide.
+      const double u = d / h, k = median ? a[j] : a[j] * std::pow(1.0 - u * u * u, 3);
+      if (!(k > 0)) continue;
+      const double dx = x[j] - x0, y = value[j];
+      vw.push_back({y, k});
+      s0 += k, s1 += k * dx, s2 += k * dx * dx, t0 += k * y, t1 += k * dx * y;
+      lo = std::min(lo, y), hi = std::max(hi, y);
+    }
+    if (vw.empty()) return value[near.front().second];
+    if (median) return weighted_median(std::move(vw));
+    const double det = s0 * s2 - s1 * s1;
+    const double y = det > 1e-9 * s0 * s2 ? (s2 * t0 - s1 * t1) / det : t0 / s0;
+    return std::clamp(std::isfinite(y) ? y : t0 / s0, lo, hi);
+  };
+  std::vector<double> robust(n, 1.0), a = w, f(n);
+  // Stations at no finite position take the median of all readings.
+  std::vector<glm::dvec2> all;
+  for (std::size_t i = 0; i < n; ++i)
+    if (w[i] > 0) all.push_back({value[i], w[i]});
+  const double overall = weighted_median(all);
+  const auto fit_all = [&](bool median, double bandwidth, double min_weight) {
+    for (std::size_t i = 0; i < n; ++i)
+      f[i] = std::isfinite(x[i]) ? fit_at(x[i], a, median, bandwidth, min_weight) : overall;
+  };
+  // The start: a weighted median over twice the window, which a few readings
+  // of something else, even side by side, cannot move.
+  fit_all(true, 2 * o.bandwidth, 2 * o.min_weight);
+  for (int it = 0; it < o.iterations; ++it) {
+    std::vector<glm::dvec2> res;
+    for (std::size_t i = 0; i < n; ++i)
+      if (w[i] > 0) res.push_back({std::fabs(value[i] - f[i]), w[i]});
+    const double s = std::max(o.min_scale, weighted_median(res));
+    for (std::size_t i = 0; i < n; ++i) {
+      const double u = w[i] > 0 ? (value[i] - f[i]) / (6.0 * s) : 0.0;
+      robust[i] = std::fabs(u) < 1.0 ? (1.0 - u * u) * (1.0 - u * u) : 0.0;
+      a[i] = w[i] * robust[i];
+    }
+    fit_all(false, o.bandwidth, o.min_weight);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    fit.outlier[i] = w[i] > 0 && !(robust[i] > 0);
+    if (std::isfinite(f[i])) fit.value[i] = f[i];
+  }
+  return fit;
+}
+
+BarbAngleFit barb_angles_along_shaft(const std::vector<double>& t, const std::vector<double>& angle,
+                                     const std::vector<double>& conf, double calamus_t) {
+  const std::size_t n = t.size();
+  if (angle.size() != n || conf.size() != n)
+    throw Error("barb_angles_along_shaft: " + std::to_string(n) + " stations, " + std::to_string(angle.size()) +
+                " angles and " + std::to_string(conf.size()) + " confidences; give one of each per station");
+  // Near the tip barbs run almost along the shaft, so flat angles are barbs there.
+  constexpr double kTipZone = 0.9;
+  const double c0 = std::isfinite(calamus_t) ? std::clamp(calamus_t, 0.0, 0.99) : 0.0;
+  const Profile preset = default_feather_params().left.angle_deg;
+  BarbAngleFit out;
+  std::vector<double> weight(n, 0.0), prior(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = (t[i] - c0) / (1.0 - c0);
+    prior[i] = preset(std::isfinite(x) ? std::clamp(x, 0.0, 1.0) : 0.5);
+    if (!(conf[i] >= kLayoutMinConfidence) || !std::isfinite(angle[i])) continue;
+    ++out.confident;
+    // Past 90 degrees a barb would point back toward the calamus; away from the
+    // tip, barbs leave the rachis at 20-70 degrees, and an orientation under 15
+    // there is the texture of unresolved barbs or the rachis and shaft edges
+    // (spoonbill sheet at 0.86 mm/px: 5 degrees).
+    if (angle[i] > 90.0) ++out.backward;
+    else if (!(angle[i] > 0.0) || (angle[i] < kMinBarbAngleDeg && !(x >= kTipZone))) ++out.flat;
+    else weight[i] = std::min(conf[i], 1.0);
+  }
+  const AlongShaftFit fit = smooth_along_shaft(t, angle, weight, prior);
+  for (std::size_t i = 0; i < n; ++i) out.outliers += fit.outlier[i];
+  out.angle_deg = fit.value;
+  out.from_prior = fit.from_prior;
+  return out;
+}
+
 double barb_spacing_prior_mm(double length_mm) {
   return std::clamp(0.25 + 0.002 * length_mm, 0.25, 0.75);
 }
@@ -391,31 +537,23 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
       vp.width = Profile({{0.0, 0.02 * L}, {1.0, 0.02 * L}});
     }
 
-    auto angle = trusted(f.stations_t, v.barb_angle_deg, v.barb_angle_confidence);
-    // Past 90° a barb would point back toward the calamus; near the tip, where
-    // barbs run almost along the shaft, the orientation estimate wraps to ~180°.
-    const auto before = angle.size();
-    std::erase_if(angle, [](const glm::dvec2& q) { return q.y > 90.0; });
-    if (angle.size() != before)
-      out.warnings.push_back(side + " barb angle: " + std::to_string(before - angle.size()) +
+    // Barb angles: the readings that can be barbs, smoothed along the shaft with
+    // their confidences; the rest take their neighbours' value (docs/analysis.md,
+    // "Barb angles along the shaft").
+    const BarbAngleFit a = barb_angles_along_shaft(f.stations_t, v.barb_angle_deg, v.barb_angle_confidence, calamus_t);
+    if (a.backward)
+      out.warnings.push_back(side + " barb angle: " + std::to_string(a.backward) +
                              " station(s) above 90 degrees ignored");
-    // Away from the tip, barbs leave the rachis at 20-70 degrees; an orientation
-    // under 15 degrees there is the texture of unresolved barbs or the rachis and
-    // shaft edges, not barbs (spoonbill sheet at 0.86 mm/px: 5 degrees), and barbs
-    // that flat would run along the shaft for many times the vane's width.
-    constexpr double kMinAngleAwayFromTip = 15.0, kTipZone = 0.9;
-    const auto confident = angle.size();
-    std::erase_if(angle, [&](const glm::dvec2& q) {
-      return q.y < kMinAngleAwayFromTip && (q.x - calamus_t) / (1.0 - calamus_t) < kTipZone;
-    });
-    if (angle.size() != confident)
-      out.warnings.push_back(side + " barb angle: " + std::to_string(confident - angle.size()) +
+    if (a.flat)
+      out.warnings.push_back(side + " barb angle: " + std::to_string(a.flat) +
                              " station(s) below 15 degrees away from the tip ignored (not barbs)");
-    if (angle.empty()) {
+    if (a.outliers)
+      out.warnings.push_back(side + " barb angle: " + std::to_string(a.outliers) +
+                             " station(s) off their neighbours along the shaft ignored");
+    if (a.from_prior)
       out.warnings.push_back(side + " barb angle: no station is confident; used the default feather's profile");
-      for (const auto& k : preset.left.angle_deg.knots())
-        angle.push_back({calamus_t + k.x * (1 - calamus_t), k.y});
-    }
+    std::vector<glm::dvec2> angle;
+    for (std::size_t i = 0; i < f.stations_t.size(); ++i) angle.push_back({f.stations_t[i], a.angle_deg[i]});
     if (std::any_of(angle.begin(), angle.end(), [](const glm::dvec2& q) { return q.y < 5; }))
       out.warnings.push_back(side + " barb angle: values below 5 degrees raised to 5");
     vp.angle_deg = vane_profile(angle, calamus_t, 5.0, 90.0);

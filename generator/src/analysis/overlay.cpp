@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "plumage/generator/layout_to_params.h"
 #include "steps.h"
 
 namespace plumage::analysis {
@@ -41,7 +42,7 @@ cv::Mat draw_overlay(const cv::Mat& bgr, const std::vector<OverlayFeather>& feat
   const int th = std::max(1, int(std::lround(dim / 900)));
   const double font = std::max(0.4, dim / 2000);
   const cv::Scalar green(60, 220, 60), red(40, 40, 255), yellow(0, 230, 255), cyan(255, 230, 0),
-      blue(255, 120, 0), white(255, 255, 255);
+      blue(255, 120, 0), white(255, 255, 255), grey(150, 150, 150);
   for (const OverlayFeather& f : feathers) {
     std::vector<cv::Point> outline;
     for (const cv::Point& p : f.contour) outline.push_back(px(glm::dvec2(p.x, p.y)));
@@ -53,7 +54,9 @@ cv::Mat draw_overlay(const cv::Mat& bgr, const std::vector<OverlayFeather>& feat
     const glm::dvec2 tip = f.shaft_px.eval(1.0), dir = glm::normalize(f.shaft_px.deriv(1.0));
     cv::arrowedLine(img, px(tip - dir * (12.0 * th / g_k)), px(tip + dir * (4.0 * th / g_k)), red,
                     th + 1, cv::LINE_AA, 0, 0.5);
-    // Barb directions at the middle of each side's vane.
+    // Barb directions at the middle of each side's vane: trusted readings
+    // (confidence >= kLayoutMinConfidence) long and in the side's colour, the
+    // rest short and grey (layout -> params takes those from their neighbours).
     for (std::size_t k = 0; k < f.vanes.t.size(); ++k) {
       const double t = f.vanes.t[k];
       const glm::dvec2 C = f.shaft_px.eval(t), T = glm::normalize(f.shaft_px.deriv(t));
@@ -65,9 +68,10 @@ cv::Mat draw_overlay(const cv::Mat& bgr, const std::vector<OverlayFeather>& feat
         const double a = S.angle_deg[k] * 3.14159265358979 / 180.0;
         const glm::dvec2 b = T * std::cos(a) + N * (side * std::sin(a));
         const glm::dvec2 m = C + N * (side * 0.5 * w);
-        const double len = 0.4 * w;
-        cv::line(img, px(m - b * (0.5 * len)), px(m + b * (0.5 * len)), side < 0 ? yellow : cyan,
-                 th, cv::LINE_AA);
+        const bool trusted = S.angle_conf[k] >= kLayoutMinConfidence;
+        const double len = (trusted ? 0.4 : 0.15) * w;
+        cv::line(img, px(m - b * (0.5 * len)), px(m + b * (0.5 * len)),
+                 trusted ? (side < 0 ? yellow : cyan) : grey, th, cv::LINE_AA);
       }
     }
     std::ostringstream s;

@@ -179,15 +179,25 @@ void correct_spacing_for_fanning(SideMeasure& S, const std::vector<double>& offs
 // broader than barbs, and the integration of each pixel's outer product.
 constexpr double kBarbScalePx = 4.0, kTensorScalePx = 1.5;
 
+// A pixel whose gradients, averaged over the barb scale, still point one way is
+// on a step edge (a colour bar's edge, the outline, a highlight's rim); barbs are
+// a grating of thin lines whose gradients cancel there. The share of the
+// gradient energy that survives the averaging, |G * grad I|^2 / G * |grad I|^2
+// (G: Gaussian of kBarbScalePx), is ~0.5 on a blurred step and under 0.05 on
+// barbs 3-10 px apart; a pixel's vote is scaled by 1 - share / kEdgeShare.
+constexpr double kEdgeShare = 0.25, kEdgeScalePx = 2.0;
+
 // The dominant barb orientation in a window of the unrolled image: each pixel's
 // integrated tensor gives an orientation (as a barb angle from the shaft toward
 // the tip, 0..180 degrees, pointing away from the shaft on `side`) and a
-// coherence; a coherence-weighted histogram (1-degree bins, smoothed over +-3)
-// gives the mode, refined by the weighted mean of the orientations within 8
-// degrees of it. Confidence: the share of the weight within 10 degrees of the
-// mode times their mean coherence, scaled by 1.4 so a clean barb pattern reads ~1.
-void angle_mode(const cv::Mat& Jxx, const cv::Mat& Jxy, const cv::Mat& Jyy, const cv::Mat& interior, int R,
-                int side, int j0, int j1, int inner, int outer, double& angle, double& conf) {
+// coherence; a histogram (1-degree bins, smoothed over +-3) of the coherences,
+// scaled down on step edges (`edge`, above), gives the mode, refined by the
+// weighted mean of the orientations within 8 degrees of it. Confidence: the
+// share of all the coherence (edges included) within 10 degrees of the mode
+// times their mean coherence, scaled by 1.4 so a clean barb pattern reads ~1.
+void angle_mode(const cv::Mat& Jxx, const cv::Mat& Jxy, const cv::Mat& Jyy, const cv::Mat& edge,
+                const cv::Mat& interior, int R, int side, int j0, int j1, int inner, int outer, double& angle,
+                double& conf) {
   angle = NAN, conf = 0;
   std::vector<double> hist(180, 0.0);
   struct Vote {
@@ -207,11 +217,13 @@ void angle_mode(const cv::Mat& Jxx, const cv::Mat& Jxy, const cv::Mat& Jyy, cons
       double bo = -std::sin(phi), bs = std::cos(phi);  // (offset, arc length)
       if (bo * side < 0) bo = -bo, bs = -bs;           // point away from the shaft
       const double deg = std::acos(std::clamp(bs, -1.0, 1.0)) * 180.0 / kPi;
-      hist[std::min(179, int(deg))] += coherence;
-      votes.push_back({float(deg), float(coherence)});
-      total += coherence;
+      const double barb = std::clamp(1.0 - edge.at<float>(j, i) / kEdgeShare, 0.0, 1.0);
+      if (!(barb > 0)) continue;
+      total += coherence * barb;
+      hist[std::min(179, int(deg))] += coherence * barb;
+      votes.push_back({float(deg), float(coherence * barb)});
     }
-  if (!(total > 0)) return;
+  if (!(total > 0) || votes.empty()) return;
   int best = 0;
   double best_v = -1;
   for (int k = 0; k < 180; ++k) {
@@ -265,6 +277,21 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
   cv::Scharr(fine, gy, CV_32F, 0, 1);
   cv::Mat Jxx = gx.mul(gx), Jxy = gx.mul(gy), Jyy = gy.mul(gy);
   for (cv::Mat* J : {&Jxx, &Jxy, &Jyy}) cv::GaussianBlur(*J, *J, cv::Size(0, 0), kTensorScalePx);
+  // Step edges (angle_mode): the gradient of the blurred photo against the
+  // blurred gradient energy of the photo.
+  cv::Mat edge;
+  {
+    cv::Mat rx, ry, mx, my;
+    cv::Scharr(U.gray, rx, CV_32F, 1, 0);
+    cv::Scharr(U.gray, ry, CV_32F, 0, 1);
+    cv::Mat energy = rx.mul(rx) + ry.mul(ry), mean_x, mean_y;
+    cv::GaussianBlur(energy, energy, cv::Size(0, 0), kEdgeScalePx);
+    cv::GaussianBlur(rx, mean_x, cv::Size(0, 0), kEdgeScalePx);
+    cv::GaussianBlur(ry, mean_y, cv::Size(0, 0), kEdgeScalePx);
+    cv::divide(mean_x.mul(mean_x) + mean_y.mul(mean_y), energy + 1e-6f, edge);
+    // The tensor carries an edge's orientation a few pixels either side of it.
+    cv::dilate(edge, edge, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(5, 5)));
+  }
   // The outline is the strongest edge in the photo; where it runs across the
   // window (a rounded tip) it would pass for a barb pointing back toward the
   // calamus. Orientations are read only a few pixels inside the mask.
@@ -315,7 +342,7 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
       // and splits do not pull it (angle_mode).
       const int inner = int(std::max(shaft_width_px, 0.15 * w)), outer = int(0.85 * w);
       double angle = NAN, conf = 0;
-      if (outer > inner) angle_mode(Jxx, Jxy, Jyy, interior, U.R, side, j0, j1, inner, outer, angle, conf);
+      if (outer > inner) angle_mode(Jxx, Jxy, Jyy, edge, interior, U.R, side, j0, j1, inner, outer, angle, conf);
       // Barbs leave the shaft toward the tip: an orientation pointing back
       // toward the calamus is something else (an edge, a split) and not trusted.
       S.angle_deg.push_back(angle);

@@ -31,6 +31,52 @@ struct LayoutParams {
 // Measurements with confidence below this are not trusted (docs/layout-format.md).
 inline constexpr double kLayoutMinConfidence = 0.5;
 
+// A profile along the shaft from per-station readings that may include some
+// that are something else (docs/analysis.md, "Barb angles along the shaft"): at
+// each station a weighted local-linear regression over station position `x`
+// (tricube kernel whose half-width is at least `bandwidth`, wide enough to hold
+// `min_weight` of reading weight and, between readings, to reach the nearest one
+// on either side), started from a weighted median over twice that window (no kernel)
+// and refitted `iterations` times with Tukey's bisquare robustness weights
+// B(r / (6 s)), s the weighted median |residual| but at least `min_scale`
+// (Cleveland 1979, J. Am. Stat. Assoc. 74:829), so readings far off the curve
+// drop out. A fitted value never leaves the range of the readings it is fitted
+// from. A station without a reading (weight 0, or a non-finite position, value
+// or weight) takes its neighbours' value: across a gap the line between its
+// sides, past the last reading that reading's fitted value. With no weighted
+// reading at all every station takes `prior` (one value per station).
+struct AlongShaftOptions {
+  double bandwidth = 0.12;  // in units of x (stations_t: fraction of the shaft)
+  double min_weight = 1.5;
+  double min_scale = 2.0;   // in units of the values
+  int iterations = 3;
+};
+struct AlongShaftFit {
+  std::vector<double> value;  // one per station
+  std::vector<bool> outlier;  // a weighted reading the robust fit rejected (bisquare weight 0)
+  bool from_prior = false;    // no reading had weight
+};
+AlongShaftFit smooth_along_shaft(const std::vector<double>& x, const std::vector<double>& value,
+                                 const std::vector<double>& weight, const std::vector<double>& prior,
+                                 const AlongShaftOptions& options = {});
+
+// One vane's barb angles for the generator from analysis readings (degrees, 0..180,
+// and confidences): readings under kLayoutMinConfidence, pointing back toward the
+// calamus (> 90 degrees), or under kMinBarbAngleDeg away from the tip (the last
+// tenth of the vane, from `calamus_t` on) are not barbs; the rest, weighted by
+// confidence, go through smooth_along_shaft with the default feather's angle
+// profile over the vane as the prior.
+inline constexpr double kMinBarbAngleDeg = 15.0;
+struct BarbAngleFit {
+  std::vector<double> angle_deg;  // one per station, smoothed
+  int confident = 0;              // readings with confidence >= kLayoutMinConfidence
+  int backward = 0, flat = 0;     // of those: > 90 degrees, < kMinBarbAngleDeg away from the tip
+  int outliers = 0;               // of the rest: rejected against their neighbours
+  bool from_prior = false;
+};
+BarbAngleFit barb_angles_along_shaft(const std::vector<double>& t, const std::vector<double>& angle_deg,
+                                     const std::vector<double>& confidence, double calamus_t);
+
 // Barb spacing along the rachis (mm, each side) assumed for a feather of this
 // shaft length when the photo does not resolve its barbs (docs/analysis.md,
 // "Barb density": 0.25 mm + 0.2 % of the length, within [0.25, 0.75] mm).
