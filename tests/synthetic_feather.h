@@ -27,6 +27,13 @@ struct SyntheticFeather {
   bool dark_background = false;
   double noise = 0.02;
   unsigned seed = 1;
+  // Flight feathers on a scanned sheet: a pale fringe this wide along the outer
+  // edge of the wider vane, and the feather's cast shadow (darker than the card)
+  // this wide beyond that edge. 0: neither.
+  double fringe = 0, shadow = 0;
+  // How far the rachis colour is from the vane's (1: the default dark rachis,
+  // smaller: a faint one).
+  float rachis_contrast = 1;
 
   glm::dvec2 dir() const { return {std::cos(dir_deg * kPi / 180), std::sin(dir_deg * kPi / 180)}; }
   glm::dvec2 right() const { return {-dir().y, dir().x}; }  // feather +X, tip up
@@ -37,7 +44,9 @@ struct SyntheticFeather {
     const double u = (y - vane_start()) / (length - vane_start());
     return (side < 0 ? w_left : w_right) * std::pow(std::sin(kPi * u), 0.6);
   }
-  // 0 outside, 1 vane, 2 shaft; and the barb brightness factor.
+  int wide_side() const { return w_right >= w_left ? 1 : -1; }
+  // 0 outside, 1 vane, 2 shaft, 3 fringe, 4 cast shadow (outside the feather);
+  // and the barb brightness factor.
   int classify(glm::dvec2 p, double& shade) const {
     const glm::dvec2 d = p - calamus;
     const double y = glm::dot(d, dir()), x = glm::dot(d, right());
@@ -46,14 +55,17 @@ struct SyntheticFeather {
       return 2;
     if (y < 0 || y > length) return 0;
     const int side = x < 0 ? -1 : 1;
-    if (std::fabs(x) > half_width(y, side)) return 0;
+    const double hw = half_width(y, side);
+    if (std::fabs(x) > hw) return side == wide_side() && hw > 0 && std::fabs(x) <= hw + shadow ? 4 : 0;
+    if (side == wide_side() && std::fabs(x) > hw - fringe) return 3;
     const double phase = (y - std::fabs(x) / std::tan(theta_deg * kPi / 180)) / spacing;
     shade = 1.0 - barb_contrast + barb_contrast * std::cos(2 * kPi * phase);
     return 1;
   }
   bool inside(glm::dvec2 p) const {
     double s;
-    return classify(p, s) != 0;
+    const int c = classify(p, s);
+    return c != 0 && c != 4;
   }
 
   // sRGB-valued picture, 3x3 supersampled, blurred, with Gaussian noise.
@@ -61,7 +73,7 @@ struct SyntheticFeather {
     const glm::vec3 bg = dark_background ? glm::vec3(0.04f) : glm::vec3(0.96f);
     const glm::vec3 vane =
         dark_background ? glm::vec3(0.85f, 0.72f, 0.66f) : glm::vec3(0.80f, 0.50f, 0.48f);
-    const glm::vec3 rachis(0.55f, 0.18f, 0.10f);
+    const glm::vec3 rachis = glm::mix(vane, glm::vec3(0.55f, 0.18f, 0.10f), rachis_contrast);
     Image img(width, height, 3);
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x) {
@@ -70,7 +82,11 @@ struct SyntheticFeather {
           for (int sx = 0; sx < 3; ++sx) {
             double shade;
             const int c = classify({x + (sx + 0.5) / 3.0, y + (sy + 0.5) / 3.0}, shade);
-            acc += c == 0 ? bg : c == 2 ? rachis : vane * float(shade);
+            acc += c == 0   ? bg
+                   : c == 2 ? rachis
+                   : c == 3 ? glm::mix(vane, glm::vec3(1.f), 0.6f)
+                   : c == 4 ? bg * 0.8f
+                            : vane * float(shade);
           }
         img.set_rgb(x, y, acc / 9.0f);
       }

@@ -25,10 +25,13 @@ void principal_axis(const Component& f, cv::Point2d& c, cv::Point2d& e) {
 // one way and those of the other the other way. Per row of the straightened image
 // the score of a column is how much the slant summed to its right differs from
 // that summed to its left (structure-tensor cross term, smoothed), as a fraction
-// of all the slant in the row, with the sign that peaks over the whole feather;
-// clamped at 0. It is broad where the ridge is sharp, so it guides the path to
-// the right place and the ridge puts it on the rachis.
-cv::Mat chevron_score(const cv::Mat& S, const cv::Mat& M) {
+// of all the slant in the row, clamped at 0. Its sign follows from the barbs
+// leaning toward the tip: `tip_step` is -1 when the tip is at the first row, +1
+// at the last, 0 when unknown (then the sign that peaks over the whole feather;
+// on a feather with one narrow vane both signs peak, at opposite edges). It is
+// broad where the ridge is sharp, so it guides the path to the right place and
+// the ridge puts it on the rachis.
+cv::Mat chevron_score(const cv::Mat& S, const cv::Mat& M, int tip_step) {
   cv::Mat g, gx, gy;
   cv::cvtColor(S, g, cv::COLOR_BGR2GRAY);
   g.convertTo(g, CV_32F);
@@ -40,6 +43,23 @@ cv::Mat chevron_score(const cv::Mat& S, const cv::Mat& M) {
   cv::Mat slant = 2 * jxy / (energy + 1e-3f);
   slant.setTo(0, M == 0);
   const int H = S.rows, W = S.cols;
+  // A row's slanted texture (|cross term| per mask pixel) against the median
+  // row's: a row with little of it (the bare quill) says little about where the
+  // vanes meet.
+  cv::Mat texture = cv::abs(jxy);
+  texture.setTo(0, M == 0);
+  std::vector<double> density(H, 0.0), dens;
+  for (int y = 0; y < H; ++y) {
+    const int w = cv::countNonZero(M.row(y));
+    if (w == 0) continue;
+    density[y] = cv::sum(texture.row(y))[0] / w;
+    dens.push_back(density[y]);
+  }
+  double typical = 0;
+  if (!dens.empty()) {
+    std::nth_element(dens.begin(), dens.begin() + dens.size() / 2, dens.end());
+    typical = dens[dens.size() / 2];
+  }
   cv::Mat diff(H, W, CV_32F, cv::Scalar(0));
   double up = 0, down = 0;  // summed positive and negative row peaks
   for (int y = 0; y < H; ++y) {
@@ -47,16 +67,19 @@ cv::Mat chevron_score(const cv::Mat& S, const cv::Mat& M) {
     float* d = diff.ptr<float>(y);
     double total = 0, absum = 0;
     for (int x = 0; x < W; ++x) total += c[x], absum += std::fabs(c[x]);
-    if (absum <= 0) continue;
+    if (absum <= 0 || !(typical > 0)) continue;
+    const double weight = std::min(1.0, density[y] / typical);
     double left = 0, hi = 0, lo = 0;
     for (int x = 0; x < W; ++x) {
-      d[x] = float(((total - left - c[x]) - left) / absum);
+      d[x] = float(weight * ((total - left - c[x]) - left) / absum);
       left += c[x];
       if (M.at<uchar>(y, x)) hi = std::max(hi, double(d[x])), lo = std::min(lo, double(d[x]));
     }
     up += hi, down -= lo;
   }
-  if (down > up) diff = -diff;
+  // Tip at the first row: a barb right of the rachis runs toward +x and -y, its
+  // stripes' gradient along (1, 1), cross term > 0, so the score is right minus left.
+  if (tip_step > 0 || (tip_step == 0 && down > up)) diff = -diff;
   cv::max(diff, 0.0, diff);
   return diff;
 }
@@ -181,11 +204,34 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   }
   if (r1 - r0 < 8) throw Error("feather too short to trace a shaft");
 
-  // Dynamic programming: the path maximising ridge strength plus the vanes'
+  // The calamus end is the one with the longer run of rows where only the
+  // bare quill is left (width well under the vane's).
+  const int wmax = *std::max_element(width.begin(), width.end());
+  auto run = [&](int from, int step) {
+    int k = 0;
+    for (int y = from; y >= r0 && y <= r1 && width[y] < 0.3 * wmax; y += step) ++k;
+    return k;
+  };
+  const int run_top = run(r0, +1), run_bottom = run(r1, -1);
+  const bool calamus_at_bottom = run_bottom >= run_top;
+
+  // Dynamic programming: the path maximising the line score plus the vanes'
   // chevron score, moving at most two columns per row, with a small price per
-  // column moved.
-  const double lambda = 0.5 * cv::mean(ridge, M)[0];
-  const cv::Mat score = ridge + 8.0 * lambda * chevron_score(S, M);
+  // column moved. The line score grows with the logarithm of the ridge strength
+  // above the feather's mean ridge r: r log(1 + ridge / r). A line counts for being
+  // a line more than for its contrast, so a faint rachis near one edge is not left
+  // for a stronger line elsewhere (on flight feathers, the pale fringe of the wide
+  // vane with the feather's shadow beyond it), and where two lines compete the
+  // chevron score, which says on which side the barbs lie, decides. The chevron
+  // weighs 2r: at 4r it alone outweighed a strong rachis where barring rather than
+  // barbs sets the slant (blue-jay tail feathers).
+  const double mean_ridge = cv::mean(ridge, M)[0];
+  const double lambda = 0.5 * mean_ridge;
+  cv::Mat line;
+  cv::log(1.0 + ridge / std::max(mean_ridge, 1e-6), line);
+  line *= mean_ridge;
+  const int tip_step = run_top == run_bottom ? 0 : calamus_at_bottom ? -1 : +1;
+  const cv::Mat score = line + 4.0 * lambda * chevron_score(S, M, tip_step);
   const float NEG = -std::numeric_limits<float>::infinity();
   std::vector<float> prev(W, 0.f), cur(W);
   std::vector<signed char> back(std::size_t(H) * W, 0);
@@ -217,16 +263,6 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
     x = std::clamp(x, 0, W - 1);
   }
 
-  // The calamus end is the one with the longer run of rows where only the
-  // bare quill is left (width well under the vane's).
-  const int wmax = *std::max_element(width.begin(), width.end());
-  auto run = [&](int from, int step) {
-    int k = 0;
-    for (int y = from; y >= r0 && y <= r1 && width[y] < 0.3 * wmax; y += step) ++k;
-    return k;
-  };
-  const int run_top = run(r0, +1), run_bottom = run(r1, -1);
-  const bool calamus_at_bottom = run_bottom >= run_top;
   straighten_faded_tip(rows_path, ridge, M, calamus_at_bottom ? -1 : +1);
 
   Shaft shaft;
@@ -250,7 +286,6 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   } else {
     shaft.width_px = std::max(2.0, 0.008 * (r1 - r0));
   }
-  const double mean_ridge = cv::mean(ridge, M)[0];
   const double contrast = on_path / rows_path.size() / std::max(mean_ridge, 1e-6);
   shaft.confidence = std::clamp((contrast - 1.0) / 3.0, 0.0, 1.0);
   return shaft;
