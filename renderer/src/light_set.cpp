@@ -71,22 +71,56 @@ std::optional<LightSample> LightSet::sample(std::size_t i, const glm::vec3& p, c
   return LightSample{s.wi, std::numeric_limits<float>::infinity(), s.Le, s.pdf, false};
 }
 
-LightProxy LightSet::proxy(std::size_t i, const glm::vec3& p) const {
-  if (i < spheres_.size()) {
-    const SphereLight& l = spheres_[i];
-    const glm::vec3 to_c = l.centre - p;
-    const float d2 = glm::dot(to_c, to_c);
-    // Inside the sphere the light surrounds p: 2 pi of solid angle is a fair share.
-    const float pdf = sphere_light_pdf(l, p);
-    const float solid_angle = pdf > 0 ? 1.0f / pdf : 2.0f * std::numbers::pi_v<float>;
-    return {d2 > 0 ? to_c / std::sqrt(d2) : glm::vec3(0, 0, 1), l.radiance * solid_angle, true};
+namespace {
+
+// proxies()'s loop over the spheres, branch-free (every value computed and then
+// selected) and over plain pointers, so that GCC vectorises it.
+void sphere_proxies(std::size_t n, const float* cx, const float* cy, const float* cz, const float* r2,
+                    const float* lr, const float* lg, const float* lb, glm::vec3 p, float* __restrict x,
+                    float* __restrict y, float* __restrict z, float* __restrict sr, float* __restrict sg,
+                    float* __restrict sb) {
+  constexpr float k2Pi = 2.0f * std::numbers::pi_v<float>;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float dx = cx[i] - p.x, dy = cy[i] - p.y, dz = cz[i] - p.z;
+    const float d2 = dx * dx + dy * dy + dz * dz;
+    const float inv_d = 1.0f / std::sqrt(d2);
+    // The cone's solid angle 2 pi (1 - cos theta_max) (sphere_light_pdf's
+    // reciprocal); inside the sphere the light surrounds p: 2 pi is a fair share.
+    const float s2 = r2[i] / d2;
+    const float omc = s2 / (1.0f + std::sqrt(std::max(0.0f, 1.0f - s2)));
+    const float solid_angle = d2 > r2[i] ? k2Pi * omc : k2Pi;
+    const bool away = d2 > 0;
+    x[i] = away ? dx * inv_d : 0.0f;
+    y[i] = away ? dy * inv_d : 0.0f;
+    z[i] = away ? dz * inv_d : 1.0f;
+    sr[i] = lr[i] * solid_angle;
+    sg[i] = lg[i] * solid_angle;
+    sb[i] = lb[i] * solid_angle;
   }
-  if (i < spheres_.size() + directional_.size()) {
-    const DirectionalLight& l = directional_[i - spheres_.size()];
-    return {l.to_light, l.irradiance, true};
+}
+
+}  // namespace
+
+void LightSet::proxies(const glm::vec3& p, LightProxies& out) const {
+  const std::size_t n = count(), ns = spheres_.size();
+  for (auto* v : {&out.x, &out.y, &out.z, &out.r, &out.g, &out.b}) v->resize(n);
+  out.environment = env_ ? n - 1 : n;
+  float *x = out.x.data(), *y = out.y.data(), *z = out.z.data();
+  float *sr = out.r.data(), *sg = out.g.data(), *sb = out.b.data();
+  sphere_proxies(ns, soa_centre_[0].data(), soa_centre_[1].data(), soa_centre_[2].data(), soa_r2_.data(),
+                 soa_radiance_[0].data(), soa_radiance_[1].data(), soa_radiance_[2].data(), p, x, y, z, sr, sg, sb);
+  for (std::size_t k = 0; k < directional_.size(); ++k) {
+    const DirectionalLight& l = directional_[k];
+    const std::size_t i = ns + k;
+    x[i] = l.to_light.x, y[i] = l.to_light.y, z[i] = l.to_light.z;
+    sr[i] = l.irradiance.x, sg[i] = l.irradiance.y, sb[i] = l.irradiance.z;
   }
-  if (!env_) return {};
-  return {glm::vec3(0, 0, 1), glm::vec3(std::numbers::pi_v<float> * env_->mean_luminance()), false};
+  if (env_) {
+    const std::size_t i = n - 1;
+    const float e = std::numbers::pi_v<float> * env_->mean_luminance();
+    x[i] = 0, y[i] = 0, z[i] = 1;
+    sr[i] = sg[i] = sb[i] = e;
+  }
 }
 
 std::optional<LightSet::Hit> LightSet::intersect_spheres(const glm::vec3& o, const glm::vec3& d, float tmax) const {
