@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <vector>
 
 #include "plumage/common/error.h"
 
@@ -99,6 +100,25 @@ void sphere_proxies(std::size_t n, const float* cx, const float* cy, const float
   }
 }
 
+// intersect_sphere for every sphere at once, branch-free: t[i] is the distance
+// it gives, or infinity for a miss.
+void sphere_distances(std::size_t n, const float* cx, const float* cy, const float* cz, const float* r2, glm::vec3 o,
+                      glm::vec3 d, float* __restrict t) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  for (std::size_t i = 0; i < n; ++i) {
+    const float ox = cx[i] - o.x, oy = cy[i] - o.y, oz = cz[i] - o.z;
+    const float b = ox * d.x + oy * d.y + oz * d.z;
+    const float c = ox * ox + oy * oy + oz * oz - r2[i];
+    const float px = ox - b * d.x, py = oy - b * d.y, pz = oz - b * d.z;
+    const float disc = r2[i] - (px * px + py * py + pz * pz);
+    const float s = std::sqrt(std::max(disc, 0.0f));
+    const bool outside = c > 0;
+    const float ti = outside ? b - s : b + s;  // the near side, or the far side from inside
+    const bool hit = (disc >= 0) & ((c <= 0) | ((b > 0) & (ti > 0)));
+    t[i] = hit ? ti : kInf;
+  }
+}
+
 }  // namespace
 
 void LightSet::proxies(const glm::vec3& p, LightProxies& out) const {
@@ -129,12 +149,17 @@ std::optional<LightSet::Hit> LightSet::intersect_spheres(const glm::vec3& o, con
   // feather under a dome head down, and most that head up meet a barb first.
   const float top = d.z > 0 ? o.z + d.z * tmax : o.z;  // +inf for an open ray upward
   if (top < sphere_floor_) return best;
-  for (std::size_t i = 0; i < spheres_.size(); ++i) {
-    const SphereLight& l = spheres_[i];
-    const auto t = intersect_sphere(l, o, d);
-    if (!t || *t >= tmax || (best && *t >= best->t)) continue;
-    best = Hit{i, l.radiance, *t, sphere_light_pdf(l, o)};
-  }
+  const std::size_t n = spheres_.size();
+  thread_local std::vector<float> t;
+  t.resize(n);
+  sphere_distances(n, soa_centre_[0].data(), soa_centre_[1].data(), soa_centre_[2].data(), soa_r2_.data(), o, d,
+                   t.data());
+  // The first of the nearest (as one sphere after the other would find it).
+  std::size_t which = n;
+  float nearest = tmax;
+  for (std::size_t i = 0; i < n; ++i)
+    if (t[i] < nearest) nearest = t[i], which = i;
+  if (which < n) best = Hit{which, spheres_[which].radiance, nearest, sphere_light_pdf(spheres_[which], o)};
   return best;
 }
 

@@ -294,11 +294,7 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
         const int picks = pick.picks();
         // Stratified over the pmf: pick k takes u in [k/picks, (k+1)/picks).
         for (int k = 0; k < picks; ++k) {
-          glm::vec2 us(ul.y, ul.z);
-          if (k > 0) {
-            const glm::vec4 u = sampler.next4();
-            us = {u.x, u.y};
-          }
+          const glm::vec2 us = k > 0 ? sampler.next2() : glm::vec2(ul.y, ul.z);
           const std::size_t i = pick.choose((ul.x + float(k)) / float(picks));
           L += beta * direct_light(scene_, lights_, hit, *bsdf, i, pick.prob(i), us, counters);
         }
