@@ -187,7 +187,8 @@ TEST(RenderLights, PickPmfSumsToOneAndKeepsEveryLight) {
   const float nan = std::nanf(""), inf = std::numeric_limits<float>::infinity();
   const std::vector<std::vector<float>> cases{
       {1, 2, 3, 4},        {0, 0, 5},        {1e-30f, 1e30f, 1},  {-1, nan, 2, 0},
-      {7},                 {0, 0, 0},        {inf, 1, 1},         {1e30f, 1e30f, 1e30f, 1e30f}};
+      {7},                 {0, 0, 0},        {inf, 1, 1},         {1e30f, 1e30f, 1e30f, 1e30f},
+      {1e-45f, 0, 1e-45f}, {-inf, nan, -0.0f}};
   for (const auto& w : cases) {
     std::vector<float> pmf(w.size(), -1.0f);
     light_pick_pmf(w, pmf);

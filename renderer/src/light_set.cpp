@@ -28,19 +28,19 @@ LightPick parse_light_pick(const std::string& name) {
 void light_pick_pmf(std::span<const float> estimates, std::span<float> pmf) {
   const std::size_t n = estimates.size();
   if (n == 0) return;
+  // Negative or non-finite estimates count as zero (NaN fails the comparisons).
+  constexpr float kMax = std::numeric_limits<float>::max();
+  for (std::size_t i = 0; i < n; ++i) pmf[i] = (estimates[i] > 0) & (estimates[i] <= kMax) ? estimates[i] : 0.0f;
   double sum = 0;
-  for (float w : estimates)
-    if (w > 0 && std::isfinite(w)) sum += w;
+  for (std::size_t i = 0; i < n; ++i) sum += pmf[i];
   const float uniform = 1.0f / float(n);
   if (!(sum > 0) || !std::isfinite(sum)) {
     std::fill(pmf.begin(), pmf.begin() + std::ptrdiff_t(n), uniform);
     return;
   }
-  const double scale = (1.0 - double(kUniformPickShare)) / sum;
-  for (std::size_t i = 0; i < n; ++i) {
-    const float w = estimates[i] > 0 && std::isfinite(estimates[i]) ? estimates[i] : 0.0f;
-    pmf[i] = float(double(w) * scale + double(kUniformPickShare) * uniform);
-  }
+  // In double: the scale of estimates near the float minimum does not fit a float.
+  const double scale = (1.0 - double(kUniformPickShare)) / sum, floor = double(kUniformPickShare) * uniform;
+  for (std::size_t i = 0; i < n; ++i) pmf[i] = float(double(pmf[i]) * scale + floor);
 }
 
 std::size_t pick_from_pmf(std::span<const float> pmf, float u) {

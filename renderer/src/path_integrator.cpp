@@ -45,12 +45,16 @@ struct DiffuseScatter final : Scatter {
     return c > 0 ? albedo * (c / kPi) : glm::vec3(0);
   }
   void estimate_weights(const LightProxies& lp, float* w) const override {
-    const float kr = 0.2126f * albedo.x / kPi, kg = 0.7152f * albedo.y / kPi, kb = 0.0722f * albedo.z / kPi;
-    const float *x = lp.x.data(), *y = lp.y.data(), *z = lp.z.data();
-    const float *r = lp.r.data(), *g = lp.g.data(), *b = lp.b.data();
-    for (std::size_t i = 0; i < lp.size(); ++i) {
+    weigh(lp.size(), lp.x.data(), lp.y.data(), lp.z.data(), lp.r.data(), lp.g.data(), lp.b.data(), n,
+          albedo / kPi, w);
+  }
+  // A plain loop over pointers, which GCC vectorises: lum(strength f cos).
+  static void weigh(std::size_t count, const float* x, const float* y, const float* z, const float* r, const float* g,
+                    const float* b, glm::vec3 n, glm::vec3 f, float* __restrict w) {
+    const float kr = 0.2126f * f.x, kg = 0.7152f * f.y, kb = 0.0722f * f.z;
+    for (std::size_t i = 0; i < count; ++i) {
       const float c = x[i] * n.x + y[i] * n.y + z[i] * n.z;
-      w[i] = c > 0 ? c * (kr * r[i] + kg * g[i] + kb * b[i]) : 0.0f;
+      w[i] = std::max(c, 0.0f) * (kr * r[i] + kg * g[i] + kb * b[i]);
     }
   }
   bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const override {
