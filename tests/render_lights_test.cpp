@@ -187,7 +187,8 @@ TEST(RenderLights, PickPmfSumsToOneAndKeepsEveryLight) {
   const float nan = std::nanf(""), inf = std::numeric_limits<float>::infinity();
   const std::vector<std::vector<float>> cases{
       {1, 2, 3, 4},        {0, 0, 5},        {1e-30f, 1e30f, 1},  {-1, nan, 2, 0},
-      {7},                 {0, 0, 0},        {inf, 1, 1},         {1e30f, 1e30f, 1e30f, 1e30f}};
+      {7},                 {0, 0, 0},        {inf, 1, 1},         {1e30f, 1e30f, 1e30f, 1e30f},
+      {1e-45f, 0, 1e-45f}, {-inf, nan, -0.0f}};
   for (const auto& w : cases) {
     std::vector<float> pmf(w.size(), -1.0f);
     light_pick_pmf(w, pmf);
@@ -225,14 +226,32 @@ TEST(RenderLights, ProxiesPointAtTheLightsWithTheirStrength) {
   lights.set_environment(EnvironmentLight(glm::vec3(0.25f)));
   ASSERT_EQ(lights.count(), 3u);
   EXPECT_EQ(lights.environment_index(), 2u);
-  const LightProxy s = lights.proxy(0, glm::vec3(0));
-  EXPECT_NEAR(s.wi.z, 1.0f, 1e-6f);
+  LightProxies px;
+  lights.proxies(glm::vec3(0), px);
+  ASSERT_EQ(px.size(), 3u);
+  EXPECT_NEAR(px.wi(0).z, 1.0f, 1e-6f);
   // Le x solid angle of the cone, 2 pi (1 - cos theta_max).
   const float omega = 2 * kPi * (1 - std::sqrt(1 - 0.01f));
-  EXPECT_NEAR(s.strength.x, 2.0f * omega, 1e-3f * 2.0f * omega);
-  EXPECT_NEAR(lights.proxy(1, glm::vec3(0)).strength.y, 0.5f, 1e-6f);
-  EXPECT_FALSE(lights.proxy(2, glm::vec3(0)).directional);
-  EXPECT_NEAR(lights.proxy(2, glm::vec3(0)).strength.z, kPi * 0.25f, 1e-4f);
+  EXPECT_NEAR(px.strength(0).x, 2.0f * omega, 1e-3f * 2.0f * omega);
+  EXPECT_NEAR(px.wi(1).x, 1.0f, 1e-6f);
+  EXPECT_NEAR(px.strength(1).y, 0.5f, 1e-6f);
+  EXPECT_EQ(px.environment, 2u);
+  EXPECT_NEAR(px.strength(2).z, kPi * 0.25f, 1e-4f);
+  // Inside a sphere the light surrounds the point: half the sphere of directions.
+  lights.proxies(glm::vec3(0, 0, 9.5f), px);
+  EXPECT_NEAR(px.strength(0).x, 2.0f * 2 * kPi, 1e-4f);
+  EXPECT_NEAR(px.wi(0).z, 1.0f, 1e-6f);
+  // Off axis and far: the cone's solid angle falls as pi r^2 / d^2, the direction
+  // points at the centre.
+  lights.proxies(glm::vec3(300, 400, 10), px);
+  EXPECT_NEAR(px.wi(0).x, -0.6f, 1e-6f);
+  EXPECT_NEAR(px.wi(0).y, -0.8f, 1e-6f);
+  EXPECT_NEAR(px.strength(0).x, 2.0f * kPi / 250000.0f, 1e-3f * 2.0f * kPi / 250000.0f);
+  // Without an environment the index says so.
+  LightSet bare;
+  bare.add(SphereLight{{0, 0, 10}, 1.0f, glm::vec3(2.0f)});
+  bare.proxies(glm::vec3(0), px);
+  EXPECT_EQ(px.environment, 1u);
   EXPECT_EQ(parse_light_pick("estimate"), LightPick::Estimate);
   EXPECT_THROW(parse_light_pick("power"), Error);
 }

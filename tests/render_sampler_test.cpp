@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <set>
 #include <vector>
 
@@ -40,6 +41,38 @@ TEST(RenderSampler, ScrambledSobolPrefixesAreStratifiedNets) {
     EXPECT_EQ(cells01.size(), 256u) << "pixel " << px;
     for (int c : strata) EXPECT_EQ(c, 1);
   }
+}
+
+// next4 computes the Sobol pattern with the bit reversals that cancel left out and
+// byte tables for the direction numbers; it must give exactly the definition (Burley
+// 2020 §4, sampler.h) built from the public pieces, and next2 its first two numbers.
+TEST(RenderSampler, SobolPatternsEqualTheirDefinition) {
+  const auto to_unit = [](std::uint32_t x) { return float(x >> 8) * 0x1p-24f; };
+  std::uint32_t mismatches = 0, compared = 0;
+  for (std::uint64_t seed : {0ull, 1ull, 0x123456789abcdefull}) {
+    const std::uint32_t s32 = std::uint32_t(seed ^ (seed >> 32));
+    PixelSampler s(SamplerKind::Sobol, seed), t(SamplerKind::Sobol, seed);
+    for (int px : {0, 5, 4095})
+      for (std::uint32_t index : {0u, 1u, 2u, 3u, 255u, 256u, 65535u, 0x80000000u, 0xffffffffu}) {
+        s.start(px, 3 * px + 1, index);
+        t.start(px, 3 * px + 1, index);
+        const std::uint32_t pixel_seed = hash_combine(hash_combine(s32, std::uint32_t(px)), std::uint32_t(3 * px + 1));
+        for (std::uint32_t pattern = 0; pattern < 12; ++pattern) {
+          const std::uint32_t ps = hash_combine(pixel_seed, pattern);
+          const std::uint32_t i = nested_uniform_scramble(index, ps);
+          const glm::vec4 u = s.next4();
+          const glm::vec2 v = t.next2();
+          for (int d = 0; d < 4; ++d) {
+            const float want = to_unit(nested_uniform_scramble(sobol(i, d), hash_combine(ps, std::uint32_t(d) + 1)));
+            mismatches += u[d] != want;
+            if (d < 2) mismatches += v[d] != want;
+            ++compared;
+          }
+        }
+      }
+  }
+  EXPECT_EQ(compared, 3u * 3 * 9 * 12 * 4);
+  EXPECT_EQ(mismatches, 0u);
 }
 
 TEST(RenderSampler, DeterministicPerPixelAndIndex) {

@@ -3,7 +3,11 @@
 #include "plumage/renderer/hair_bcsdf.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
 #include <sstream>
 #include <string>
 
@@ -277,74 +281,131 @@ void HairBCSDF::f_cos(const glm::vec3& wo, std::span<const glm::vec3> wi, std::s
 
 namespace {
 
+// The estimate's scalar pieces, written without branches (each side computed,
+// then selected) and without libm calls, so that a loop over directions
+// vectorises with the baseline instruction set.
+
+// e^x within a few 1e-6 relative, for x in float's normal range (clamped there:
+// e^-1000 comes out as about 1e-38, not 0). 2^t = 2^n 2^f, n the nearest integer,
+// 2^f by its Taylor series in f ln 2 to degree 5 (|f| <= 1/2).
+inline float exp_approx(float x) {
+  const float t = std::min(std::max(x * 1.44269504f, -126.0f), 126.0f);
+  const float n = (t + 0x1.8p23f) - 0x1.8p23f;  // round to nearest (|t| < 2^22)
+  const float f = t - n;
+  const float p =
+      1.0f + f * (0.693147181f + f * (0.240226507f + f * (0.0555041087f + f * (0.00961812911f + f * 0.00133335581f))));
+  return p * std::bit_cast<float>((std::int32_t(n) + 127) << 23);
+}
+
 // atan2 within 1e-5 rad: octant reduction and a minimax polynomial for atan on
-// [0, 1] (Abramowitz & Stegun 4.4.49 form, |error| <= 1e-5).
-float fast_atan2(float y, float x) {
+// [0, 1] (Abramowitz & Stegun 4.4.49 form, |error| <= 1e-5); 0 at the origin.
+inline float atan2_approx(float y, float x) {
   const float ax = std::fabs(x), ay = std::fabs(y);
-  const float mx = std::fmax(ax, ay), mn = std::fmin(ax, ay);
-  if (!(mx > 0.0f)) return 0.0f;
-  const float a = mn / mx, s = a * a;
+  const float mx = std::max(ax, ay), mn = std::min(ax, ay);
+  const float a = mn / std::max(mx, 1e-30f), s = a * a;
   float r = ((((0.0208351f * s - 0.0851330f) * s + 0.1801410f) * s - 0.3302995f) * s + 0.9998660f) * a;
-  if (ay > ax) r = 1.57079637f - r;
-  if (x < 0.0f) r = 3.14159274f - r;
+  r = ay > ax ? 1.57079637f - r : r;
+  r = x < 0.0f ? 3.14159274f - r : r;
   return y < 0.0f ? -r : r;
 }
 
 // Mp of d'Eon et al. 2011 eq. 7 in float: I0 by its polynomial below 3.75 and
 // above by the asymptotic series e^a / sqrt(2 pi a) (1 + 1/(8a) + 9/(128 a^2))
 // (A&S 9.7.1; within 0.2 % from 3.75 on).
-float fast_mp(float sin_i, float cos_i, float sin_o, float cos_o, float inv_v, float log_norm) {
+inline float mp_approx(float sin_i, float cos_i, float sin_o, float cos_o, float inv_v, float log_norm) {
   const float a = std::fabs(cos_i * cos_o) * inv_v, b = sin_i * sin_o * inv_v;
-  if (a < 3.75f) return std::exp(log_norm - b) * float(hair::bessel_i0_small(a));
-  const float r = 1.0f / a;
-  return std::exp(log_norm - b + a) * (1.0f + r * (0.125f + 0.0703125f * r)) / std::sqrt(6.2831853f * a);
+  const bool small = a < 3.75f;
+  const float t = a * (1.0f / 3.75f), t2 = t * t;
+  const float i0 = 1.0f + t2 * (3.5156229f + t2 * (3.0899424f + t2 * (1.2067492f + t2 * (0.2659732f +
+                   t2 * (0.0360768f + t2 * 0.0045813f)))));
+  const float al = std::max(a, 3.75f), r = 1.0f / al;
+  const float series = (1.0f + r * (0.125f + 0.0703125f * r)) / std::sqrt(6.2831853f * al);
+  return exp_approx(log_norm - b + (small ? 0.0f : a)) * (small ? i0 : series);
 }
 
-float fast_wrap(float x) {
+// x wrapped into [-pi, pi].
+inline float wrap_approx(float x) {
   constexpr float k2Pi = 6.2831853f;
-  return x - k2Pi * std::nearbyint(x * (1.0f / k2Pi));
+  const float n = (x * (1.0f / k2Pi) + 0x1.8p23f) - 0x1.8p23f;
+  return x - k2Pi * n;
+}
+
+// The estimate's loop over directions, its per-wo terms as arguments (a free
+// function of plain pointers: GCC vectorises it, not the same loop inside the member).
+void estimate_kernel(std::size_t n, const float* x, const float* y, const float* z, float* __restrict out_r,
+                     float* __restrict out_g, float* __restrict out_b, const float* sin_op, const float* cos_op,
+                     const float* inv_v, const float* log_norm, const float* shift, const float (*A)[3], float inv_s,
+                     float np_scale, float woy, float woz) {
+  constexpr float kMax = std::numeric_limits<float>::max();
+  for (std::size_t k = 0; k < n; ++k) {
+    const float wx = x[k], wy = y[k], wz = z[k];
+    const bool ok = (std::fabs(wx) <= kMax) & (std::fabs(wy) <= kMax) & (std::fabs(wz) <= kMax);  // & keeps it branch-free
+    const float sin_i = std::min(std::max(wx, -1.0f), 1.0f), cos_i = std::sqrt((1.0f - sin_i) * (1.0f + sin_i));
+    const float phi = atan2_approx(wy * woz - wz * woy, wz * woz + wy * woy);
+    // Mp Np of lobe p (written out per lobe: the vectoriser wants no inner loop).
+    const auto lobe = [&](int p) {
+      const float mp = mp_approx(sin_i, cos_i, sin_op[p], cos_op[p], inv_v[p], log_norm[p]);
+      const float e = exp_approx(-std::fabs(wrap_approx(phi - shift[p])) * inv_s);
+      return mp * (e / ((1.0f + e) * (1.0f + e)) * np_scale);
+    };
+    const float g0 = lobe(0), g1 = lobe(1), g2 = lobe(2);
+    const float g3 = mp_approx(sin_i, cos_i, sin_op[3], cos_op[3], inv_v[3], log_norm[3]) * 0.15915494f;
+    // f cos(theta_i) = sum_p Mp Ap Np: the 1/cos(theta_i) of f cancels.
+    const float fr = A[0][0] * g0 + A[1][0] * g1 + A[2][0] * g2 + A[3][0] * g3;
+    const float fg = A[0][1] * g0 + A[1][1] * g1 + A[2][1] * g2 + A[3][1] * g3;
+    const float fb = A[0][2] * g0 + A[1][2] * g1 + A[2][2] * g2 + A[3][2] * g3;
+    out_r[k] = ok ? fr : 0.0f;
+    out_g[k] = ok ? fg : 0.0f;
+    out_b[k] = ok ? fb : 0.0f;
+  }
 }
 
 }  // namespace
 
 void HairBCSDF::f_cos_estimate(const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<glm::vec3> out) const {
+  const std::size_t n = wi.size();
+  std::vector<float> soa(6 * n);
+  float* in = soa.data();
+  for (std::size_t k = 0; k < n; ++k) {
+    in[k] = wi[k].x;
+    in[n + k] = wi[k].y;
+    in[2 * n + k] = wi[k].z;
+  }
+  float* const channels[3] = {in + 3 * n, in + 4 * n, in + 5 * n};
+  f_cos_estimate(wo, n, in, in + n, in + 2 * n, channels);
+  for (std::size_t k = 0; k < n; ++k) out[k] = {channels[0][k], channels[1][k], channels[2][k]};
+}
+
+void HairBCSDF::f_cos_estimate(const glm::vec3& wo, std::size_t n, const float* x, const float* y, const float* z,
+                               float* const out[3]) const {
+  float* __restrict out_r = out[0];
+  float* __restrict out_g = out[1];
+  float* __restrict out_b = out[2];
   if (!finite(wo)) {
-    std::fill(out.begin(), out.end(), glm::vec3(0));
+    std::fill(out_r, out_r + n, 0.0f);
+    std::fill(out_g, out_g + n, 0.0f);
+    std::fill(out_b, out_b + n, 0.0f);
     return;
   }
   const Longitude o = longitude(wo);
   const Attenuation at = attenuation_for(wo, o.sin, o.cos);
-  float sin_op[3], cos_op[3], inv_v[4], log_norm[4], shift[3];
-  glm::vec3 A[4];
+  float sin_op[4], cos_op[4], inv_v[4], log_norm[4], shift[3], A[4][3];
   for (int p = 0; p < kLobes; ++p) {
     inv_v[p] = float(1.0 / v_[p]);
     log_norm[p] = float(mp_log_norm_[p]);
-    A[p] = glm::vec3(at.A[p]);
+    for (int c = 0; c < 3; ++c) A[p][c] = float(at.A[p][c]);
   }
   for (int p = 0; p < 3; ++p) {
     sin_op[p] = float(o.sin * cos_shift_[p] + o.cos * sin_shift_[p]);
     cos_op[p] = float(o.cos * cos_shift_[p] - o.sin * sin_shift_[p]);
     shift[p] = float(hair::azimuthal_shift(p, gamma_o_, at.gamma_t));
   }
-  const float s = float(s_), np_norm = float(np_norm_), so = float(o.sin), co = float(o.cos);
-  for (std::size_t k = 0; k < wi.size(); ++k) {
-    const glm::vec3& w = wi[k];
-    if (!finite(w)) {
-      out[k] = glm::vec3(0);
-      continue;
-    }
-    const float sin_i = std::clamp(w.x, -1.0f, 1.0f), cos_i = std::sqrt((1.0f - sin_i) * (1.0f + sin_i));
-    const float phi = fast_atan2(w.y * wo.z - w.z * wo.y, w.z * wo.z + w.y * wo.y);
-    glm::vec3 f(0.0f);
-    for (int p = 0; p < 3; ++p) {
-      const float mp = fast_mp(sin_i, cos_i, sin_op[p], cos_op[p], inv_v[p], log_norm[p]);
-      const float x = std::fabs(fast_wrap(phi - shift[p])), e = std::exp(-x / s);
-      f += A[p] * (mp * e / (s * (1.0f + e) * (1.0f + e)) * np_norm);
-    }
-    f += A[3] * (fast_mp(sin_i, cos_i, so, co, inv_v[3], log_norm[3]) * 0.15915494f);
-    // f cos(theta_i) = sum_p Mp Ap Np: the 1/cos(theta_i) of f cancels.
-    out[k] = f;
-  }
+  sin_op[3] = float(o.sin);  // the residual lobe is not shifted
+  cos_op[3] = float(o.cos);
+  // The trimmed logistic e / (s (1 + e)^2) norm with e = exp(-|x| / s).
+  const float inv_s = float(1.0 / s_), np_scale = float(np_norm_ / s_);
+  estimate_kernel(n, x, y, z, out_r, out_g, out_b, sin_op, cos_op, inv_v, log_norm, shift, A, inv_s, np_scale, wo.y,
+                  wo.z);
 }
 
 // Chiang et al. 2016 §4.3: pick a lobe by its weight, sample theta_i from its Mp and

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <vector>
 
 #include "plumage/common/error.h"
 
@@ -27,19 +28,19 @@ LightPick parse_light_pick(const std::string& name) {
 void light_pick_pmf(std::span<const float> estimates, std::span<float> pmf) {
   const std::size_t n = estimates.size();
   if (n == 0) return;
+  // Negative or non-finite estimates count as zero (NaN fails the comparisons).
+  constexpr float kMax = std::numeric_limits<float>::max();
+  for (std::size_t i = 0; i < n; ++i) pmf[i] = (estimates[i] > 0) & (estimates[i] <= kMax) ? estimates[i] : 0.0f;
   double sum = 0;
-  for (float w : estimates)
-    if (w > 0 && std::isfinite(w)) sum += w;
+  for (std::size_t i = 0; i < n; ++i) sum += pmf[i];
   const float uniform = 1.0f / float(n);
   if (!(sum > 0) || !std::isfinite(sum)) {
     std::fill(pmf.begin(), pmf.begin() + std::ptrdiff_t(n), uniform);
     return;
   }
-  const double scale = (1.0 - double(kUniformPickShare)) / sum;
-  for (std::size_t i = 0; i < n; ++i) {
-    const float w = estimates[i] > 0 && std::isfinite(estimates[i]) ? estimates[i] : 0.0f;
-    pmf[i] = float(double(w) * scale + double(kUniformPickShare) * uniform);
-  }
+  // In double: the scale of estimates near the float minimum does not fit a float.
+  const double scale = (1.0 - double(kUniformPickShare)) / sum, floor = double(kUniformPickShare) * uniform;
+  for (std::size_t i = 0; i < n; ++i) pmf[i] = float(double(pmf[i]) * scale + floor);
 }
 
 std::size_t pick_from_pmf(std::span<const float> pmf, float u) {
@@ -71,22 +72,75 @@ std::optional<LightSample> LightSet::sample(std::size_t i, const glm::vec3& p, c
   return LightSample{s.wi, std::numeric_limits<float>::infinity(), s.Le, s.pdf, false};
 }
 
-LightProxy LightSet::proxy(std::size_t i, const glm::vec3& p) const {
-  if (i < spheres_.size()) {
-    const SphereLight& l = spheres_[i];
-    const glm::vec3 to_c = l.centre - p;
-    const float d2 = glm::dot(to_c, to_c);
-    // Inside the sphere the light surrounds p: 2 pi of solid angle is a fair share.
-    const float pdf = sphere_light_pdf(l, p);
-    const float solid_angle = pdf > 0 ? 1.0f / pdf : 2.0f * std::numbers::pi_v<float>;
-    return {d2 > 0 ? to_c / std::sqrt(d2) : glm::vec3(0, 0, 1), l.radiance * solid_angle, true};
+namespace {
+
+// proxies()'s loop over the spheres, branch-free (every value computed and then
+// selected) and over plain pointers, so that GCC vectorises it.
+void sphere_proxies(std::size_t n, const float* cx, const float* cy, const float* cz, const float* r2,
+                    const float* lr, const float* lg, const float* lb, glm::vec3 p, float* __restrict x,
+                    float* __restrict y, float* __restrict z, float* __restrict sr, float* __restrict sg,
+                    float* __restrict sb) {
+  constexpr float k2Pi = 2.0f * std::numbers::pi_v<float>;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float dx = cx[i] - p.x, dy = cy[i] - p.y, dz = cz[i] - p.z;
+    const float d2 = dx * dx + dy * dy + dz * dz;
+    const float inv_d = 1.0f / std::sqrt(d2);
+    // The cone's solid angle 2 pi (1 - cos theta_max) (sphere_light_pdf's
+    // reciprocal); inside the sphere the light surrounds p: 2 pi is a fair share.
+    const float s2 = r2[i] / d2;
+    const float omc = s2 / (1.0f + std::sqrt(std::max(0.0f, 1.0f - s2)));
+    const float solid_angle = d2 > r2[i] ? k2Pi * omc : k2Pi;
+    const bool away = d2 > 0;
+    x[i] = away ? dx * inv_d : 0.0f;
+    y[i] = away ? dy * inv_d : 0.0f;
+    z[i] = away ? dz * inv_d : 1.0f;
+    sr[i] = lr[i] * solid_angle;
+    sg[i] = lg[i] * solid_angle;
+    sb[i] = lb[i] * solid_angle;
   }
-  if (i < spheres_.size() + directional_.size()) {
-    const DirectionalLight& l = directional_[i - spheres_.size()];
-    return {l.to_light, l.irradiance, true};
+}
+
+// intersect_sphere for every sphere at once, branch-free: t[i] is the distance
+// it gives, or infinity for a miss.
+void sphere_distances(std::size_t n, const float* cx, const float* cy, const float* cz, const float* r2, glm::vec3 o,
+                      glm::vec3 d, float* __restrict t) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  for (std::size_t i = 0; i < n; ++i) {
+    const float ox = cx[i] - o.x, oy = cy[i] - o.y, oz = cz[i] - o.z;
+    const float b = ox * d.x + oy * d.y + oz * d.z;
+    const float c = ox * ox + oy * oy + oz * oz - r2[i];
+    const float px = ox - b * d.x, py = oy - b * d.y, pz = oz - b * d.z;
+    const float disc = r2[i] - (px * px + py * py + pz * pz);
+    const float s = std::sqrt(std::max(disc, 0.0f));
+    const bool outside = c > 0;
+    const float ti = outside ? b - s : b + s;  // the near side, or the far side from inside
+    const bool hit = (disc >= 0) & ((c <= 0) | ((b > 0) & (ti > 0)));
+    t[i] = hit ? ti : kInf;
   }
-  if (!env_) return {};
-  return {glm::vec3(0, 0, 1), glm::vec3(std::numbers::pi_v<float> * env_->mean_luminance()), false};
+}
+
+}  // namespace
+
+void LightSet::proxies(const glm::vec3& p, LightProxies& out) const {
+  const std::size_t n = count(), ns = spheres_.size();
+  for (auto* v : {&out.x, &out.y, &out.z, &out.r, &out.g, &out.b}) v->resize(n);
+  out.environment = env_ ? n - 1 : n;
+  float *x = out.x.data(), *y = out.y.data(), *z = out.z.data();
+  float *sr = out.r.data(), *sg = out.g.data(), *sb = out.b.data();
+  sphere_proxies(ns, soa_centre_[0].data(), soa_centre_[1].data(), soa_centre_[2].data(), soa_r2_.data(),
+                 soa_radiance_[0].data(), soa_radiance_[1].data(), soa_radiance_[2].data(), p, x, y, z, sr, sg, sb);
+  for (std::size_t k = 0; k < directional_.size(); ++k) {
+    const DirectionalLight& l = directional_[k];
+    const std::size_t i = ns + k;
+    x[i] = l.to_light.x, y[i] = l.to_light.y, z[i] = l.to_light.z;
+    sr[i] = l.irradiance.x, sg[i] = l.irradiance.y, sb[i] = l.irradiance.z;
+  }
+  if (env_) {
+    const std::size_t i = n - 1;
+    const float e = std::numbers::pi_v<float> * env_->mean_luminance();
+    x[i] = 0, y[i] = 0, z[i] = 1;
+    sr[i] = sg[i] = sb[i] = e;
+  }
 }
 
 std::optional<LightSet::Hit> LightSet::intersect_spheres(const glm::vec3& o, const glm::vec3& d, float tmax) const {
@@ -95,12 +149,17 @@ std::optional<LightSet::Hit> LightSet::intersect_spheres(const glm::vec3& o, con
   // feather under a dome head down, and most that head up meet a barb first.
   const float top = d.z > 0 ? o.z + d.z * tmax : o.z;  // +inf for an open ray upward
   if (top < sphere_floor_) return best;
-  for (std::size_t i = 0; i < spheres_.size(); ++i) {
-    const SphereLight& l = spheres_[i];
-    const auto t = intersect_sphere(l, o, d);
-    if (!t || *t >= tmax || (best && *t >= best->t)) continue;
-    best = Hit{i, l.radiance, *t, sphere_light_pdf(l, o)};
-  }
+  const std::size_t n = spheres_.size();
+  thread_local std::vector<float> t;
+  t.resize(n);
+  sphere_distances(n, soa_centre_[0].data(), soa_centre_[1].data(), soa_centre_[2].data(), soa_r2_.data(), o, d,
+                   t.data());
+  // The first of the nearest (as one sphere after the other would find it).
+  std::size_t which = n;
+  float nearest = tmax;
+  for (std::size_t i = 0; i < n; ++i)
+    if (t[i] < nearest) nearest = t[i], which = i;
+  if (which < n) best = Hit{which, spheres_[which].radiance, nearest, sphere_light_pdf(spheres_[which], o)};
   return best;
 }
 

@@ -24,18 +24,18 @@ struct Scatter {
   virtual glm::vec3 f_cos(const glm::vec3& wi, float* pdf) const = 0;
   // A direction, its throughput weight f cos / pdf and pdf; false when none.
   virtual bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const = 0;
-  // f cos for many directions at once (no pdfs).
-  virtual void f_cos(std::span<const glm::vec3> wi, std::span<glm::vec3> out) const {
+  // Weighs every light for the choice of light only: w[i] = lum(strength_i x
+  // f cos(wi_i)) over the proxies, f cos exact or a cheaper approximation of it.
+  // The environment's entry is the caller's (it has no single direction).
+  virtual void estimate_weights(const LightProxies& lp, float* w) const {
     float pdf;
-    for (std::size_t k = 0; k < wi.size(); ++k) out[k] = f_cos(wi[k], &pdf);
+    for (std::size_t i = 0; i < lp.size(); ++i) w[i] = luminance(lp.strength(i) * f_cos(lp.wi(i), &pdf));
   }
-  // f cos or a cheaper approximation of it, for weighing the choice of light only.
-  virtual void estimate_f_cos(std::span<const glm::vec3> wi, std::span<glm::vec3> out) const { f_cos(wi, out); }
+  static float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 };
 
 // Lambertian card, seen from either side.
 struct DiffuseScatter final : Scatter {
-  using Scatter::f_cos;
   glm::vec3 n, albedo;
   DiffuseScatter(const glm::vec3& normal, const glm::vec3& wo, const glm::vec3& a)
       : n(glm::dot(normal, wo) < 0 ? -normal : normal), albedo(a) {}
@@ -43,6 +43,19 @@ struct DiffuseScatter final : Scatter {
     const float c = glm::dot(wi, n);
     *pdf = c > 0 ? c / kPi : 0.0f;
     return c > 0 ? albedo * (c / kPi) : glm::vec3(0);
+  }
+  void estimate_weights(const LightProxies& lp, float* w) const override {
+    weigh(lp.size(), lp.x.data(), lp.y.data(), lp.z.data(), lp.r.data(), lp.g.data(), lp.b.data(), n,
+          albedo / kPi, w);
+  }
+  // A plain loop over pointers, which GCC vectorises: lum(strength f cos).
+  static void weigh(std::size_t count, const float* x, const float* y, const float* z, const float* r, const float* g,
+                    const float* b, glm::vec3 n, glm::vec3 f, float* __restrict w) {
+    const float kr = 0.2126f * f.x, kg = 0.7152f * f.y, kb = 0.0722f * f.z;
+    for (std::size_t i = 0; i < count; ++i) {
+      const float c = x[i] * n.x + y[i] * n.y + z[i] * n.z;
+      w[i] = std::max(c, 0.0f) * (kr * r[i] + kg * g[i] + kb * b[i]);
+    }
   }
   bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const override {
     // Cosine-weighted hemisphere (Malley's method).
@@ -68,20 +81,31 @@ struct FibreScatter final : Scatter {
     const glm::vec3 wl = ff.frame.to_local(wi);
     return bcsdf.f_pdf(wo_local, wl, pdf) * bcsdf_cos(wl);
   }
-  void f_cos(std::span<const glm::vec3> wi, std::span<glm::vec3> out) const override {
-    bcsdf.f_cos(wo_local, to_local(wi), out);
+  // The float estimate (HairBCSDF::f_cos_estimate) in the fibre frame, over
+  // per-thread buffers (Li is not re-entrant).
+  void estimate_weights(const LightProxies& lp, float* w) const override {
+    thread_local std::vector<float> buf;
+    const std::size_t n = lp.size();
+    buf.resize(6 * n);
+    float *lx = buf.data(), *ly = lx + n, *lz = ly + n;
+    to_frame(n, lp.x.data(), lp.y.data(), lp.z.data(), ff.frame, lx, ly, lz);
+    float* const resp[3] = {lz + n, lz + 2 * n, lz + 3 * n};
+    bcsdf.f_cos_estimate(wo_local, n, lx, ly, lz, resp);
+    weigh(n, lp.r.data(), lp.g.data(), lp.b.data(), resp[0], resp[1], resp[2], w);
   }
-  void estimate_f_cos(std::span<const glm::vec3> wi, std::span<glm::vec3> out) const override {
-    bcsdf.f_cos_estimate(wo_local, to_local(wi), out);
+  // Plain loops over pointers, which GCC vectorises.
+  static void to_frame(std::size_t n, const float* x, const float* y, const float* z, Frame f, float* __restrict lx,
+                       float* __restrict ly, float* __restrict lz) {
+    for (std::size_t i = 0; i < n; ++i) {
+      lx[i] = x[i] * f.t.x + y[i] * f.t.y + z[i] * f.t.z;
+      ly[i] = x[i] * f.b.x + y[i] * f.b.y + z[i] * f.b.z;
+      lz[i] = x[i] * f.n.x + y[i] * f.n.y + z[i] * f.n.z;
+    }
   }
-  // The directions in the fibre frame, in a per-thread buffer (Li is not re-entrant).
-  std::span<const glm::vec3> to_local(std::span<const glm::vec3> wi) const {
-    thread_local std::vector<glm::vec3> local;
-    local.resize(wi.size());
-    for (std::size_t k = 0; k < wi.size(); ++k) local[k] = ff.frame.to_local(wi[k]);
-    return local;
+  static void weigh(std::size_t n, const float* r, const float* g, const float* b, const float* fr, const float* fg,
+                    const float* fb, float* __restrict w) {
+    for (std::size_t i = 0; i < n; ++i) w[i] = 0.2126f * r[i] * fr[i] + 0.7152f * g[i] * fg[i] + 0.0722f * b[i] * fb[i];
   }
-  using Scatter::f_cos;
   bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const override {
     const auto s = bcsdf.sample(wo_local, {u.x, u.y}, {u.z, u.w});
     if (!s || !(s->pdf > 0)) return false;
@@ -95,7 +119,6 @@ struct FibreScatter final : Scatter {
 // A far-field ribbon hit (farfield.h): the vane's table in the barb's frame, given
 // that the ray was not let through.
 struct FarfieldScatter final : Scatter {
-  using Scatter::f_cos;
   const FarfieldModel& model;
   Frame frame;
   FarfieldModel::Outgoing out;  // what depends on wo alone, once per hit
@@ -105,8 +128,9 @@ struct FarfieldScatter final : Scatter {
     return model.f_cos(out, frame.to_local(wi), pdf);
   }
   // Values only (no pdfs): next-event estimation's weighing of every light.
-  void f_cos(std::span<const glm::vec3> wi, std::span<glm::vec3> fc) const override {
-    for (std::size_t k = 0; k < wi.size(); ++k) fc[k] = model.f_cos(out, frame.to_local(wi[k]), nullptr);
+  void estimate_weights(const LightProxies& lp, float* w) const override {
+    for (std::size_t i = 0; i < lp.size(); ++i)
+      w[i] = luminance(lp.strength(i) * model.f_cos(out, frame.to_local(lp.wi(i)), nullptr));
   }
   bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const override {
     glm::vec3 wl;
@@ -156,23 +180,13 @@ class LightChoice {
   // Weighs every light by lum(f_cos(wi) strength) at this vertex (LightPick::Estimate).
   void estimate(const LightSet& lights, const glm::vec3& p, const Scatter& bsdf) {
     if (n_ <= 1) return;  // one light needs no weighing: it is chosen with probability 1 either way
-    thread_local std::vector<LightProxy> proxies;
-    thread_local std::vector<glm::vec3> dirs, response;
-    proxies.resize(n_);
-    dirs.resize(n_);
-    response.resize(n_);
+    thread_local LightProxies proxies;
     weights_->resize(n_);
     pmf_->resize(n_);
-    for (std::size_t i = 0; i < n_; ++i) {
-      proxies[i] = lights.proxy(i, p);
-      dirs[i] = proxies[i].wi;
-    }
-    bsdf.estimate_f_cos(dirs, response);
-    for (std::size_t i = 0; i < n_; ++i) {
-      const LightProxy& lp = proxies[i];
-      const glm::vec3 c = lp.strength * (lp.directional ? response[i] : glm::vec3(kEnvironmentResponse));
-      (*weights_)[i] = 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
-    }
+    lights.proxies(p, proxies);
+    bsdf.estimate_weights(proxies, weights_->data());
+    if (proxies.environment < n_)
+      (*weights_)[proxies.environment] = Scatter::luminance(proxies.strength(proxies.environment)) * kEnvironmentResponse;
     light_pick_pmf(*weights_, *pmf_);
     estimated_ = true;
   }
@@ -284,11 +298,7 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
         const int picks = pick.picks();
         // Stratified over the pmf: pick k takes u in [k/picks, (k+1)/picks).
         for (int k = 0; k < picks; ++k) {
-          glm::vec2 us(ul.y, ul.z);
-          if (k > 0) {
-            const glm::vec4 u = sampler.next4();
-            us = {u.x, u.y};
-          }
+          const glm::vec2 us = k > 0 ? sampler.next2() : glm::vec2(ul.y, ul.z);
           const std::size_t i = pick.choose((ul.x + float(k)) / float(picks));
           L += beta * direct_light(scene_, lights_, hit, *bsdf, i, pick.prob(i), us, counters);
         }

@@ -32,12 +32,29 @@ struct SobolMatrices {
 const SobolMatrices kSobol;
 
 std::uint32_t reverse_bits(std::uint32_t x) {
-  x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
-  x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+  x = __builtin_bswap32(x);  // bytes; then nibbles, pairs and bits within each byte
   x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
-  x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
-  return (x >> 16) | (x << 16);
+  x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+  return ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
 }
+
+// Dimensions 1-3 of Sobol index i, bit-reversed, by bytes of i: entry [b][v] is the
+// XOR of the reversed direction numbers of the bits set in byte b = v (4 lookups
+// instead of one step per set bit of a 32-bit shuffled index).
+struct SobolByteTables {
+  struct Entry {
+    std::uint32_t d[3];
+  };
+  std::array<std::array<Entry, 256>, 4> t{};
+  explicit SobolByteTables(const SobolMatrices& m) {
+    for (int b = 0; b < 4; ++b)
+      for (unsigned v = 0; v < 256; ++v)
+        for (int k = 0; k < 8; ++k)
+          if ((v >> k) & 1u)
+            for (int d = 0; d < 3; ++d) t[b][v].d[d] ^= reverse_bits(m.v[d + 1][8 * b + k]);
+  }
+};
+const SobolByteTables kSobolBytes(kSobol);
 
 // Burley 2020 eq. (listing 2): a hash that only lets lower bits affect higher ones,
 // so applied to bit-reversed values it is a nested uniform (Owen) scramble.
@@ -88,30 +105,43 @@ std::uint32_t hash_combine(std::uint32_t a, std::uint32_t b) {
 void PixelSampler::start(int x, int y, std::uint32_t index) {
   pixel_seed_ = hash_combine(hash_combine(seed_, std::uint32_t(x)), std::uint32_t(y));
   index_ = index;
+  reversed_index_ = reverse_bits(index);
   pattern_ = 0;
 }
 
-glm::vec4 PixelSampler::next4() {
+// Burley 2020 §4: shuffle the index, then Owen-scramble each dimension with its own
+// seed: dimension d is nested_uniform_scramble(sobol(i, d), hash_combine(seed, d + 1))
+// with i = nested_uniform_scramble(index, seed), the pattern's seed. Written with
+// the bit reversals that cancel left out: nested_uniform_scramble(x) reverses x,
+// and dimension 0 is reverse_bits(i), dimensions 1-3 come reversed from the tables.
+template <int D>
+void PixelSampler::draw(float* out) {
   const std::uint32_t pattern_seed = hash_combine(pixel_seed_, pattern_++);
-  glm::vec4 out;
   if (kind_ == SamplerKind::Sobol) {
-    // Burley 2020 §4: shuffle the index, then Owen-scramble each dimension with its own seed.
-    const std::uint32_t i = nested_uniform_scramble(index_, pattern_seed);
-    // The shuffled index is a full 32-bit number: walk its set bits once for dimensions 1-3.
-    std::uint32_t x[4] = {reverse_bits(i), 0, 0, 0};
-    for (std::uint32_t b = i; b; b &= b - 1) {
-      const int k = std::countr_zero(b);
-      x[1] ^= kSobol.v[1][k];
-      x[2] ^= kSobol.v[2][k];
-      x[3] ^= kSobol.v[3][k];
+    const std::uint32_t i = reverse_bits(laine_karras_permutation(reversed_index_, pattern_seed));
+    std::uint32_t rx[4] = {i, 0, 0, 0};  // dimension d of index i, bit-reversed
+    for (int b = 0; b < 4; ++b) {
+      const auto& e = kSobolBytes.t[b][(i >> (8 * b)) & 0xffu];
+      for (int d = 1; d < D; ++d) rx[d] ^= e.d[d - 1];
     }
-    for (int d = 0; d < 4; ++d)
-      out[d] = to_unit(nested_uniform_scramble(x[d], hash_combine(pattern_seed, std::uint32_t(d) + 1)));
+    for (int d = 0; d < D; ++d)
+      out[d] = to_unit(reverse_bits(laine_karras_permutation(rx[d], hash_combine(pattern_seed, std::uint32_t(d) + 1))));
   } else {
     const std::uint32_t s = hash_combine(pattern_seed, index_);
-    for (int d = 0; d < 4; ++d) out[d] = to_unit(hash_combine(s, std::uint32_t(d) + 0x51ed27u));
+    for (int d = 0; d < D; ++d) out[d] = to_unit(hash_combine(s, std::uint32_t(d) + 0x51ed27u));
   }
-  return out;
+}
+
+glm::vec4 PixelSampler::next4() {
+  float u[4];
+  draw<4>(u);
+  return {u[0], u[1], u[2], u[3]};
+}
+
+glm::vec2 PixelSampler::next2() {
+  float u[2];
+  draw<2>(u);
+  return {u[0], u[1]};
 }
 
 }  // namespace plumage

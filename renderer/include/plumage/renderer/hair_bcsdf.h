@@ -91,6 +91,11 @@ class HairBCSDF {
   // choices (next-event estimation's light pick), never for radiance. Within 1 %
   // of f_cos where f_cos is not negligible (tests/hair_bcsdf_test.cpp).
   void f_cos_estimate(const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<glm::vec3> out) const;
+  // The same for n directions given as structure of arrays (x[k], y[k], z[k]),
+  // writing channel c of direction k to out[c][k]: branch-free, so the loop over
+  // directions vectorises (exp and atan2 by polynomials, no libm call).
+  void f_cos_estimate(const glm::vec3& wo, std::size_t n, const float* x, const float* y, const float* z,
+                      float* const out[3]) const;
 
   const HairParams& params() const { return p_; }
   float h() const { return h_; }

@@ -34,12 +34,20 @@ struct LightSample {
   bool delta;         // cannot be hit by BCSDF sampling
 };
 
-// What a light delivers to a point, roughly, for weighing the choice of light:
-// an unoccluded estimate of its contribution is lum(f_cos(wi) * strength).
-struct LightProxy {
-  glm::vec3 wi{0, 0, 1};   // toward the light's centre (sphere, directional)
-  glm::vec3 strength{0};   // Le x solid angle (sphere), irradiance (directional), pi x mean Le (environment)
-  bool directional = true; // false for the environment: no single direction
+// What every light delivers to a point, roughly, for weighing the choice of light:
+// an unoccluded estimate of light i's contribution is lum(f_cos(wi_i) * strength_i).
+// Structure of arrays, one entry per light in LightSet order, so that the loops
+// over the 25 LEDs vectorise.
+struct LightProxies {
+  // Toward the light's centre (sphere, directional); (0, 0, 1) for the environment.
+  std::vector<float> x, y, z;
+  // Le x solid angle (sphere), irradiance (directional), pi x mean Le (environment).
+  std::vector<float> r, g, b;
+  // The entry with no single direction (the environment); the count when none.
+  std::size_t environment = 0;
+  std::size_t size() const { return x.size(); }
+  glm::vec3 wi(std::size_t i) const { return {x[i], y[i], z[i]}; }
+  glm::vec3 strength(std::size_t i) const { return {r[i], g[i], b[i]}; }
 };
 
 // How next-event estimation chooses the light it sends a shadow ray to.
@@ -72,6 +80,11 @@ class LightSet {
   void add(const SphereLight& l) {
     spheres_.push_back(l);
     sphere_floor_ = std::min(sphere_floor_, l.centre.z - l.radius);
+    for (int c = 0; c < 3; ++c) {
+      soa_centre_[c].push_back(l.centre[c]);
+      soa_radiance_[c].push_back(l.radiance[c]);
+    }
+    soa_r2_.push_back(l.radius * l.radius);
   }
   void add(const DirectionalLight& l) { directional_.push_back(l); }
   void set_environment(EnvironmentLight env) { env_ = std::move(env); }
@@ -85,7 +98,8 @@ class LightSet {
 
   // A direction on light i as seen from p, sampled with u; pdf excludes the choice of light.
   std::optional<LightSample> sample(std::size_t i, const glm::vec3& p, const glm::vec2& u) const;
-  LightProxy proxy(std::size_t i, const glm::vec3& p) const;
+  // Every light's proxy as seen from p (resizes `out` to count()).
+  void proxies(const glm::vec3& p, LightProxies& out) const;
 
   // The nearest sphere light along the ray closer than tmax: which, its radiance,
   // distance and the pdf that sampling that light from `o` gives that direction.
@@ -106,6 +120,9 @@ class LightSet {
   std::optional<EnvironmentLight> env_;
   // The lowest z of any sphere light: a ray below it heading down meets none.
   float sphere_floor_ = std::numeric_limits<float>::infinity();
+  // The spheres again as structure of arrays (centre x, y, z; radius^2; radiance
+  // r, g, b) for the loops over every LED.
+  std::vector<float> soa_centre_[3], soa_r2_, soa_radiance_[3];
 };
 
 }  // namespace plumage

@@ -34,6 +34,9 @@ class PixelSampler {
   void start(int x, int y, std::uint32_t index);
   // The next four numbers in [0, 1).
   glm::vec4 next4();
+  // The first two of the next four (the same numbers next4 would give, for half
+  // the work; the stream moves on by a whole pattern).
+  glm::vec2 next2();
 
   SamplerKind kind() const { return kind_; }
 
@@ -42,7 +45,11 @@ class PixelSampler {
   std::uint32_t seed_;
   std::uint32_t pixel_seed_ = 0;
   std::uint32_t index_ = 0;
+  std::uint32_t reversed_index_ = 0;
   std::uint32_t pattern_ = 0;
+
+  template <int D>
+  void draw(float* out);
 };
 
 }  // namespace plumage
