@@ -350,6 +350,9 @@ TEST(Layout, RoundTripsAndRejectsBadContentWithItsPath) {
              "/feathers/0/touches_border");
   fails_with(replaced("\"stations_t\": [", "\"stations_t\": [0.0001,"),
              "/feathers/0/vanes/left/width_mm");
+  std::string many;
+  for (std::size_t i = 0; i < plumage::kMaxLayoutStations; ++i) many += "0,";
+  fails_with(replaced("\"stations_t\": [", "\"stations_t\": [" + many), "/feathers/0/stations_t");
   fails_with(replaced("\"barb_angle_deg\": [", "\"barb_angle_deg\": [\"x\","),
              "/feathers/0/vanes/left/barb_angle_deg");
   fails_with(replaced("\"file\": \"f.feather1.albedo.png\"", "\"file\": \"../x.png\""),

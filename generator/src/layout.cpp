@@ -194,6 +194,11 @@ struct Reader {
         number(member(sh, p + "/shaft", "confidence"), p + "/shaft/confidence", 0, 1);
     f.stations_t = numbers(member(j, p, "stations_t"), p + "/stations_t", 0, 0.0, 1.0);
     if (f.stations_t.empty()) fail(p + "/stations_t", "expected at least one station");
+    // The analysis writes a few dozen; layout -> params smooths along them in
+    // O(n^2 log n), so a hand-made layout with very many would take minutes.
+    if (f.stations_t.size() > kMaxLayoutStations)
+      fail(p + "/stations_t", "at most " + std::to_string(kMaxLayoutStations) + " stations (this has " +
+                                  std::to_string(f.stations_t.size()) + "); resample the layout more coarsely");
     for (std::size_t i = 1; i < f.stations_t.size(); ++i)
       if (!(f.stations_t[i] > f.stations_t[i - 1])) fail(p + "/stations_t", "must increase");
     const json& vanes = member(j, p, "vanes");

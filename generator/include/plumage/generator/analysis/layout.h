@@ -2,6 +2,7 @@
 // FeatherLayout: what photo analysis found about each feather, in the units the
 // generator builds from (DESIGN §3, §8). Stored as layout.json; the format is
 // documented in docs/layout-format.md. This header has no OpenCV in it.
+#include <cstddef>
 #include <array>
 #include <filesystem>
 #include <glm/glm.hpp>
@@ -41,6 +42,9 @@ struct AlbedoTexture {
   glm::dvec2 origin_mm{0.0};  // feather coordinates of the texture's top-left corner
   double mm_per_texel = 0.0;  // texel (i,j) centre: origin + ((i+.5)s, -(j+.5)s)
 };
+
+// The most stations one feather's layout may have (the reader refuses more).
+inline constexpr std::size_t kMaxLayoutStations = 4096;
 
 struct FeatherLayout {
   int id = 1;                          // 1-based, as labelled on the overlay
