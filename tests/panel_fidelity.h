@@ -22,7 +22,7 @@ struct Fidelity {
   int feather_pixels = 0, card_pixels = 0;
 };
 
-inline float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+using plumage::luminance;
 // rg chromaticity r / (r+g+b), g / (r+g+b).
 inline glm::vec2 chromaticity(const glm::vec3& c) {
   const float s = std::max(c.x + c.y + c.z, 1e-6f);

@@ -3,14 +3,11 @@
 #include <gtest/gtest.h>
 
 #include "plumage/common/error.h"
+#include "plumage/common/image.h"
 #include "plumage/generator/builder.h"
 #include "plumage/generator/preview.h"
 
 using namespace plumage;
-
-namespace {
-float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
-}  // namespace
 
 TEST(Preview, ShowsShaftAndBothVanesInTheirColours) {
   FeatherParams p = default_feather_params();

@@ -1,4 +1,5 @@
 #include "plumage/renderer/environment_light.h"
+#include "plumage/common/image.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,7 +17,6 @@ int find_interval(const float* cdf, int n, float x) {
   return std::clamp(int(it - cdf) - 1, 0, n - 1);
 }
 
-float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 }  // namespace
 
 EnvironmentLight::EnvironmentLight(const glm::vec3& radiance) : constant_(radiance) {

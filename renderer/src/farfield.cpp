@@ -2,6 +2,7 @@
 // sampling, the cache file format, and the memory and disk caches in front of the
 // gonioreflectometer (farfield_fit.cpp).
 #include "plumage/renderer/farfield.h"
+#include "plumage/common/image.h"
 
 #include <algorithm>
 #include <cmath>
@@ -27,8 +28,6 @@ constexpr std::uint32_t kVersion = 2;
 StatCounter g_fits("Farfield/Tables fitted (gonioreflectometer runs)");
 StatCounter g_loaded("Farfield/Tables read from the disk cache");
 StatCounter g_refused("Farfield/Cache files refused and refitted");
-
-float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
 // FNV-1a, 64 bits: the cache file's checksum and the key's file name.
 std::uint64_t fnv1a(const char* p, std::size_t n) {

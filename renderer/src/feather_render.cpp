@@ -1,4 +1,5 @@
 #include "plumage/renderer/feather_render.h"
+#include "plumage/common/image.h"
 
 #include <cmath>
 #include <numbers>
@@ -16,7 +17,7 @@ float exposure_for(const Scene& scene, const LightSet& lights, const ViewSpec& v
   glm::vec3 E(0);
   for (const SphereLight& l : lights.spheres()) E += sphere_light_irradiance(l, centre, {0, 0, 1});
   const glm::vec3 card = scene.options().backdrop.albedo * E / std::numbers::pi_v<float>;
-  const float level = 0.2126f * card.x + 0.7152f * card.y + 0.0722f * card.z;
+  const float level = luminance(card);
   return level > 0 ? std::log2(view.card_level / level) : view.exposure;
 }
 }  // namespace

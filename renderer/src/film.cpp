@@ -1,4 +1,5 @@
 #include "plumage/renderer/film.h"
+#include "plumage/common/image.h"
 
 #include <algorithm>
 #include <cfloat>
@@ -14,7 +15,7 @@ float border_luminance(const Image& img) {
   std::vector<float> lum;
   const auto add = [&](int x, int y) {
     const glm::vec3 c = img.rgb(x, y);
-    lum.push_back(0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z);
+    lum.push_back(luminance(c));
   };
   for (int x = 0; x < img.width; ++x) {
     add(x, 0);

@@ -1,4 +1,5 @@
 #include "plumage/renderer/path_integrator.h"
+#include "plumage/common/image.h"
 
 #include <algorithm>
 #include <cmath>
@@ -31,7 +32,6 @@ struct Scatter {
     float pdf;
     for (std::size_t i = 0; i < lp.size(); ++i) w[i] = luminance(lp.strength(i) * f_cos(lp.wi(i), &pdf));
   }
-  static float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 };
 
 // Lambertian card, seen from either side.
@@ -51,7 +51,7 @@ struct DiffuseScatter final : Scatter {
   // A plain loop over pointers, which GCC vectorises: lum(strength f cos).
   static void weigh(std::size_t count, const float* x, const float* y, const float* z, const float* r, const float* g,
                     const float* b, glm::vec3 n, glm::vec3 f, float* __restrict w) {
-    const float kr = 0.2126f * f.x, kg = 0.7152f * f.y, kb = 0.0722f * f.z;
+    const float kr = kLumR * f.x, kg = kLumG * f.y, kb = kLumB * f.z;
     for (std::size_t i = 0; i < count; ++i) {
       const float c = x[i] * n.x + y[i] * n.y + z[i] * n.z;
       w[i] = std::max(c, 0.0f) * (kr * r[i] + kg * g[i] + kb * b[i]);
@@ -104,7 +104,7 @@ struct FibreScatter final : Scatter {
   }
   static void weigh(std::size_t n, const float* r, const float* g, const float* b, const float* fr, const float* fg,
                     const float* fb, float* __restrict w) {
-    for (std::size_t i = 0; i < n; ++i) w[i] = 0.2126f * r[i] * fr[i] + 0.7152f * g[i] * fg[i] + 0.0722f * b[i] * fb[i];
+    for (std::size_t i = 0; i < n; ++i) w[i] = kLumR * r[i] * fr[i] + kLumG * g[i] * fg[i] + kLumB * b[i] * fb[i];
   }
   bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const override {
     const auto s = bcsdf.sample(wo_local, {u.x, u.y}, {u.z, u.w});
@@ -186,7 +186,7 @@ class LightChoice {
     lights.proxies(p, proxies);
     bsdf.estimate_weights(proxies, weights_->data());
     if (proxies.environment < n_)
-      (*weights_)[proxies.environment] = Scatter::luminance(proxies.strength(proxies.environment)) * kEnvironmentResponse;
+      (*weights_)[proxies.environment] = luminance(proxies.strength(proxies.environment)) * kEnvironmentResponse;
     light_pick_pmf(*weights_, *pmf_);
     estimated_ = true;
   }

@@ -1,6 +1,7 @@
 // The shared chains (photo_comparison.h): layout -> feather, both shading modes,
 // and the photo beside its renders with their fidelity.
 #include "plumage/pipeline/photo_comparison.h"
+#include "plumage/common/image.h"
 
 #include <nlohmann/json.hpp>
 
@@ -89,7 +90,7 @@ PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, con
   so.backdrop = photo_backdrop(bg, picked, c.crop, control_point_bounds(feather));
   // Expose like the photo: the card (its albedo proportional to the photo's
   // background) develops to the background's own level, so to its colour.
-  view.card_level = 0.2126f * bg.x + 0.7152f * bg.y + 0.0722f * bg.z;
+  view.card_level = luminance(bg);
   c.panels.push_back({std::move(photo_panel), "photo"});
   for (Panel& p : render_both_modes(feather, so, rig, view)) c.panels.push_back(std::move(p));
   c.regions = crop_regions(picked, c.crop);

@@ -193,8 +193,8 @@ constexpr double kEdgeShare = 0.25, kEdgeScalePx = 2.0;
 // coherence; a histogram (1-degree bins, smoothed over +-3) of the coherences,
 // scaled down on step edges (`edge`, above), gives the mode, refined by the
 // weighted mean of the orientations within 8 degrees of it. Confidence: the
-// share of all the coherence (edges included) within 10 degrees of the mode
-// times their mean coherence, scaled by 1.4 so a clean barb pattern reads ~1.
+// share of the (edge-scaled) coherence within 10 degrees of the mode times
+// their mean, scaled by 1.4 so a clean barb pattern reads ~1.
 void angle_mode(const cv::Mat& Jxx, const cv::Mat& Jxy, const cv::Mat& Jyy, const cv::Mat& edge,
                 const cv::Mat& interior, int R, int side, int j0, int j1, int inner, int outer, double& angle,
                 double& conf) {
@@ -223,7 +223,7 @@ void angle_mode(const cv::Mat& Jxx, const cv::Mat& Jxy, const cv::Mat& Jyy, cons
       hist[std::min(179, int(deg))] += coherence * barb;
       votes.push_back({float(deg), float(coherence * barb)});
     }
-  if (!(total > 0) || votes.empty()) return;
+  if (!(total > 0)) return;
   int best = 0;
   double best_v = -1;
   for (int k = 0; k < 180; ++k) {

@@ -9,6 +9,11 @@
 
 namespace plumage {
 
+// Rec. 709 / sRGB luminance of a linear RGB colour, and its weights for loops
+// over separate channel arrays.
+inline constexpr float kLumR = 0.2126f, kLumG = 0.7152f, kLumB = 0.0722f;
+inline float luminance(const glm::vec3& c) { return kLumR * c.x + kLumG * c.y + kLumB * c.z; }
+
 class FileBatch;
 
 struct Image {
