@@ -326,11 +326,32 @@ cv::Mat label_with_pale_parts(const cv::Mat& bgr, cv::Mat& bin, double sigma, co
   pale(cv::Rect(0, std::max(0, pale.rows - frame), pale.cols, std::min(frame, pale.rows))).setTo(0);
   pale(cv::Rect(0, 0, std::min(frame, pale.cols), pale.rows)).setTo(0);
   pale(cv::Rect(std::max(0, pale.cols - frame), 0, std::min(frame, pale.cols), pale.rows)).setTo(0);
-  // What is lighter than the card is pale even where it also stands out by
-  // colour (the whitest parts of a white tip): a white tip is then one pale
-  // part against its vane, not a region by colour of its own beside it. `bin`
-  // keeps the colour part, darker than or as light as the card.
-  bin.setTo(0, pale);
+  // A region by colour that is mostly lighter than the card (the whitest part
+  // of a white tip, standing out by colour too) is pale as a whole: a white tip
+  // is then one pale part against its vane, not a region of its own beside it.
+  // A region that is mostly darker keeps its pale pixels (the buff spots of a
+  // barred vane), which are not pale parts: it would fall apart into pieces.
+  {
+    cv::Mat colour_labels;
+    const int nc = cv::connectedComponents(bin, colour_labels, 8, CV_32S);
+    std::vector<int> total(std::size_t(nc), 0), lighter_px(std::size_t(nc), 0);
+    for (int y = 0; y < bin.rows; ++y) {
+      const int* l = colour_labels.ptr<int>(y);
+      const uchar* pl = pale.ptr<uchar>(y);
+      for (int x = 0; x < bin.cols; ++x) ++total[std::size_t(l[x])], lighter_px[std::size_t(l[x])] += pl[x] != 0;
+    }
+    for (int y = 0; y < bin.rows; ++y) {
+      const int* l = colour_labels.ptr<int>(y);
+      uchar* b = bin.ptr<uchar>(y);
+      uchar* pl = pale.ptr<uchar>(y);
+      for (int x = 0; x < bin.cols; ++x) {
+        if (!l[x]) continue;
+        const auto k = std::size_t(l[x]);
+        if (2 * lighter_px[k] >= total[k]) b[x] = 0, pl[x] = 255;
+        else pl[x] = 0;
+      }
+    }
+  }
   cv::Mat labels, stats, centroids;
   const int n = cv::connectedComponentsWithStats(bin, labels, stats, centroids, 8, CV_32S);
   if (cv::countNonZero(pale) == 0) return labels;
