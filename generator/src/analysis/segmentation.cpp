@@ -3,7 +3,9 @@
 // filtered by size and thickness so text, labels and rulings are dropped.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <queue>
+#include <unordered_map>
 #include <opencv2/imgproc.hpp>
 
 #include "steps.h"
@@ -234,6 +236,279 @@ std::vector<Component> separate(const Component& blob, Cores& cores, const cv::S
 
 }  // namespace
 
+// Pale parts on a mid-grey card: white tips, white vane margins and white
+// downy feathers are lighter than the card by less than the card varies across a
+// scan (darker toward the scanner's edge), so one border colour and one threshold
+// cut them off. Here a pixel is pale when it is lighter than the card *near it*
+// (a normalised Gaussian average of the card pixels, feathers left out) by
+// kPaleLevels grey levels and 4 sigma of the card's grain. A pale part goes to
+// the feather that lies along it (contact, below), split between feathers
+// that both do, so two white tips that touch never join their feathers; a pale
+// part no feather lies along is a feather of its own. `bin`: the feathers found
+// by colour (0/255), on return without the pale pixels; returns one label per
+// pixel (0 background), feathers numbered from 1, each label one feather.
+constexpr double kPaleLevels = 15.0, kCardBlur = 0.03;
+constexpr int kPaleRounds = 3, kSoftEdge = 4, kBridge = 8, kCardScale = 8;
+constexpr double kPaleFrame = 0.02, kCardWide = 4.0, kWideWeight = 0.05;
+constexpr double kMinContact = 0.5, kMinBaseContact = 0.05, kBaseArea = 0.2, kOwnerArea = 0.25;
+// Cards this light or lighter leave no room for paler parts; dark cards have
+// none lighter than the feather itself (its colour already stands out).
+constexpr double kPaleCardMin = 60.0, kPaleCardMax = 215.0;
+cv::Mat label_with_pale_parts(const cv::Mat& bgr, cv::Mat& bin, double sigma, const cv::Mat& open_k,
+                              double min_area, cv::Mat& pale) {
+  cv::Mat grey;
+  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+  grey.convertTo(grey, CV_32F);
+  // The card near each pixel: feathers and pale parts (grown by a few pixels:
+  // their soft edges are not card) weigh nothing. Pale parts are not known
+  // before the card is, and a large white tip lifts the card around it enough to
+  // hide itself, so card and pale parts are found in turn, kPaleRounds times.
+  const cv::Mat grow = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * kSoftEdge + 1, 2 * kSoftEdge + 1));
+  const cv::Mat bridge = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * kBridge + 1, 2 * kBridge + 1));
+  const double s = kCardBlur * std::min(bgr.cols, bgr.rows);
+  pale = cv::Mat::zeros(bin.size(), CV_8U);
+  cv::Mat lighter, card_w, den;
+  // Not card in the next round: feathers and whatever was lighter than the card
+  // by half the level (unopened): a pixel of a white tip that fell just short
+  // would otherwise count as card, lift the card around itself and stay out.
+  cv::Mat not_card = bin.clone();
+  for (int round = 0; round < kPaleRounds; ++round) {
+    cv::dilate(not_card, card_w, grow);
+    card_w = card_w == 0;
+    card_w.convertTo(card_w, CV_32F, 1.0 / 255);
+    // The card changes over centimetres: its average is taken at 1/kCardScale
+    // of the resolution and interpolated back.
+    cv::Mat num, small_num, small_den;
+    const cv::Size small(std::max(1, grey.cols / kCardScale), std::max(1, grey.rows / kCardScale));
+    cv::resize(grey.mul(card_w), small_num, small, 0, 0, cv::INTER_AREA);
+    cv::resize(card_w, small_den, small, 0, 0, cv::INTER_AREA);
+    // Inside a large pale part (a tail feather's white tip between two other
+    // feathers) the card within a few sigma has next to no weight: there the
+    // average over kCardWide times the distance takes over, smoothly (its weight
+    // kWideWeight is what the near card's weight drops below).
+    const double ss = s / kCardScale;
+    cv::Mat wide_num, wide_den;
+    cv::GaussianBlur(small_num, wide_num, cv::Size(), kCardWide * ss, kCardWide * ss, cv::BORDER_REPLICATE);
+    cv::GaussianBlur(small_den, wide_den, cv::Size(), kCardWide * ss, kCardWide * ss, cv::BORDER_REPLICATE);
+    cv::GaussianBlur(small_num, small_num, cv::Size(), ss, ss, cv::BORDER_REPLICATE);
+    cv::GaussianBlur(small_den, small_den, cv::Size(), ss, ss, cv::BORDER_REPLICATE);
+    small_num += kWideWeight * wide_num;
+    small_den += kWideWeight * wide_den;
+    cv::resize(small_num, num, grey.size(), 0, 0, cv::INTER_LINEAR);
+    cv::resize(small_den, den, grey.size(), 0, 0, cv::INTER_LINEAR);
+    lighter = grey - num / cv::max(den, 1e-6);
+    cv::GaussianBlur(lighter, lighter, cv::Size(5, 5), 1.0);
+    // The card's own grain, from its pixels' spread about the local card (MAD):
+    // the border's spread also counts the scanner's dark edge strip.
+    std::vector<float> spread;
+    for (int y = 0; y < grey.rows; y += 2) {
+      const float* d = lighter.ptr<float>(y);
+      const float* w = card_w.ptr<float>(y);
+      for (int x = 0; x < grey.cols; x += 2)
+        if (w[x] > 0) spread.push_back(std::fabs(d[x]));
+    }
+    double card_sigma = sigma;
+    if (!spread.empty()) {
+      auto mid = spread.begin() + std::ptrdiff_t(spread.size() / 2);
+      std::nth_element(spread.begin(), mid, spread.end());
+      card_sigma = 1.4826 * *mid;
+    }
+    const double level = std::max(kPaleLevels, 4.0 * card_sigma);
+    pale = (lighter > level) & (den > 1e-4);
+    not_card = bin | (lighter > 0.5 * level);
+    cv::morphologyEx(pale, pale, cv::MORPH_OPEN, open_k);
+  }
+  // A scan's edge has strips lighter and darker than the card (the scanner's lid
+  // and glass): no pale part is looked for within kPaleFrame of the short side
+  // of the photo's border.
+  const int frame = std::max(2, int(std::lround(kPaleFrame * std::min(bgr.cols, bgr.rows))));
+  pale(cv::Rect(0, 0, pale.cols, std::min(frame, pale.rows))).setTo(0);
+  pale(cv::Rect(0, std::max(0, pale.rows - frame), pale.cols, std::min(frame, pale.rows))).setTo(0);
+  pale(cv::Rect(0, 0, std::min(frame, pale.cols), pale.rows)).setTo(0);
+  pale(cv::Rect(std::max(0, pale.cols - frame), 0, std::min(frame, pale.cols), pale.rows)).setTo(0);
+  // A region by colour that is mostly lighter than the card (the whitest part
+  // of a white tip, standing out by colour too) is pale as a whole: a white tip
+  // is then one pale part against its vane, not a region of its own beside it.
+  // A region that is mostly darker keeps its pale pixels (the buff spots of a
+  // barred vane), which are not pale parts: it would fall apart into pieces.
+  {
+    cv::Mat colour_labels;
+    const int nc = cv::connectedComponents(bin, colour_labels, 8, CV_32S);
+    std::vector<int> total(std::size_t(nc), 0), lighter_px(std::size_t(nc), 0);
+    for (int y = 0; y < bin.rows; ++y) {
+      const int* l = colour_labels.ptr<int>(y);
+      const uchar* pl = pale.ptr<uchar>(y);
+      for (int x = 0; x < bin.cols; ++x) ++total[std::size_t(l[x])], lighter_px[std::size_t(l[x])] += pl[x] != 0;
+    }
+    for (int y = 0; y < bin.rows; ++y) {
+      const int* l = colour_labels.ptr<int>(y);
+      uchar* b = bin.ptr<uchar>(y);
+      uchar* pl = pale.ptr<uchar>(y);
+      for (int x = 0; x < bin.cols; ++x) {
+        if (!l[x]) continue;
+        const auto k = std::size_t(l[x]);
+        if (2 * lighter_px[k] >= total[k]) b[x] = 0, pl[x] = 255;
+        else pl[x] = 0;
+      }
+    }
+  }
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(bin, labels, stats, centroids, 8, CV_32S);
+  if (cv::countNonZero(pale) == 0) return labels;
+
+  // Each pale pixel joins a feather whose pixels reach it first, growing through
+  // pale pixels and the seeds' soft edge (a geodesic flood from every seed at
+  // once, breadth first), so a pale part shared by two touching feathers is
+  // split between them where the two floods meet. Seeds: the regions by colour
+  // of at least kBaseArea of the smallest feather (the grey base of a white
+  // downy feather is that small).
+  std::vector<char> seed(std::size_t(n), 0), feather_sized(std::size_t(n), 0);
+  for (int i = 1; i < n; ++i) {
+    const int area = stats.at<int>(i, cv::CC_STAT_AREA);
+    seed[std::size_t(i)] = area >= kBaseArea * min_area;
+    feather_sized[std::size_t(i)] = area >= min_area;
+  }
+  std::vector<cv::Point> queue;
+  cv::Mat seeds = cv::Mat::zeros(bin.size(), CV_8U);
+  for (int y = 0; y < bin.rows; ++y) {
+    const uchar* b = bin.ptr<uchar>(y);
+    int* l = labels.ptr<int>(y);
+    uchar* sd = seeds.ptr<uchar>(y);
+    for (int x = 0; x < bin.cols; ++x) {
+      if (!b[x]) continue;
+      if (seed[std::size_t(l[x])]) queue.emplace_back(x, y), sd[x] = 255;
+      else l[x] = 0;
+    }
+  }
+  // A pale part is a feather's own where that feather lies along it: a white
+  // tip against its vane over the vane's width, a margin along the vane, a
+  // downy plume on its base. Contact: the pale part's pixels nearer to a seed
+  // than kBridge (breadth first from every seed at once, through what is not
+  // colour). Where a feather-sized region has the most contact with a pale
+  // part and is at least kOwnerArea of the part's area, only feather-sized
+  // regions with at least kMinContact of that contact enter it: a small feather beside a tail feather's white tip, coming within
+  // the soft edge of it along a short stretch, takes none of it, nor does a dark
+  // speck inside the tip; two white tips that touch each lie along their own
+  // vane and share the part. Otherwise (white downy feathers whose plumes
+  // touch, each on a grey base a fraction of its plume's size) every seed with
+  // at least kMinBaseContact of the most contact enters.
+  cv::Mat pale_parts;
+  const int np = cv::connectedComponents(pale, pale_parts, 8, CV_32S);
+  std::unordered_map<std::int64_t, int> contact;  // part * n + seed -> pixels
+  {
+    cv::Mat near_id = labels.clone();
+    std::vector<cv::Point> front = queue, next;
+    for (int step = 1; step <= kBridge && !front.empty(); ++step, front.swap(next)) {
+      next.clear();
+      for (const cv::Point& p : front) {
+        const int id = near_id.at<int>(p);
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const cv::Point q(p.x + dx, p.y + dy);
+            if (q.x < 0 || q.y < 0 || q.x >= bin.cols || q.y >= bin.rows) continue;
+            if (bin.at<uchar>(q) || near_id.at<int>(q) != 0) continue;
+            near_id.at<int>(q) = id;
+            next.push_back(q);
+            if (const int part = pale_parts.at<int>(q)) ++contact[std::int64_t(part) * n + id];
+          }
+      }
+    }
+  }
+  std::vector<int> most(std::size_t(np), 0), most_id(std::size_t(np), 0);
+  for (const auto& [key, pixels] : contact) {
+    const auto part = std::size_t(key / n);
+    if (pixels > most[part]) most[part] = pixels, most_id[part] = int(key % n);
+  }
+  std::vector<int> part_area(std::size_t(np), 0);
+  for (int y = 0; y < pale_parts.rows; ++y) {
+    const int* pp = pale_parts.ptr<int>(y);
+    for (int x = 0; x < pale_parts.cols; ++x) ++part_area[std::size_t(pp[x])];
+  }
+  // A white tip is a fraction of its feather; a downy plume many times its base.
+  std::vector<char> owned(std::size_t(np), 0);
+  for (int part = 1; part < np; ++part) {
+    const int best = most_id[std::size_t(part)];
+    owned[std::size_t(part)] = best > 0 && feather_sized[std::size_t(best)] &&
+                               stats.at<int>(best, cv::CC_STAT_AREA) >= kOwnerArea * part_area[std::size_t(part)];
+  }
+  auto may_enter = [&](int part, int id) {
+    const auto it = contact.find(std::int64_t(part) * n + id);
+    if (it == contact.end()) return false;
+    if (owned[std::size_t(part)])
+      return feather_sized[std::size_t(id)] && it->second >= kMinContact * most[std::size_t(part)];
+    return it->second >= kMinBaseContact * most[std::size_t(part)];
+  };
+  // The flood goes through pale pixels and the soft edge of the seeds, not
+  // from speck to speck (grey barbs of a downy base) across what is card.
+  cv::Mat reach;
+  cv::dilate(seeds, reach, bridge);
+  reach |= pale;
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const cv::Point p = queue[head];
+    const int id = labels.at<int>(p);
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const cv::Point q(p.x + dx, p.y + dy);
+        if (q.x < 0 || q.y < 0 || q.x >= bin.cols || q.y >= bin.rows) continue;
+        if (!reach.at<uchar>(q) || labels.at<int>(q) != 0) continue;
+        const int part = pale_parts.at<int>(q);
+        if (part && !may_enter(part, id)) continue;
+        labels.at<int>(q) = id;
+        queue.push_back(q);
+      }
+  }
+  // The soft edge only carried the flood: it is not feather.
+  labels.setTo(0, (bin | pale) == 0);
+  // Pale regions no feather reaches (with the specks in them) are feathers of their own.
+  cv::Mat alone = (pale | bin) & (labels == 0), alone_labels;
+  const int na = cv::connectedComponents(alone, alone_labels, 8, CV_32S);
+  if (na > 1) {
+    alone_labels += n - 1;
+    alone_labels.copyTo(labels, alone);
+  }
+  return labels;
+}
+
+// The outer contours of every label's pixels (labels 1..), each label on its
+// own so that neighbouring labels never merge into one outline.
+std::vector<std::vector<cv::Point>> label_contours(const cv::Mat& labels, const cv::Mat& pale) {
+  double most = 0;
+  cv::minMaxLoc(labels, nullptr, &most);
+  const int n = int(most) + 1;
+  std::vector<cv::Rect> box(n);
+  std::vector<char> seen(n, 0);
+  for (int y = 0; y < labels.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    for (int x = 0; x < labels.cols; ++x) {
+      const int k = l[x];
+      if (k <= 0) continue;
+      if (!seen[k]) box[k] = cv::Rect(x, y, 1, 1), seen[k] = 1;
+      else box[k] |= cv::Rect(x, y, 1, 1);
+    }
+  }
+  std::vector<std::vector<cv::Point>> out;
+  for (int k = 1; k < n; ++k) {
+    if (!seen[k]) continue;
+    // A pale part joined to its feather across a few pixels of soft edge is
+    // bridged to it; what stays apart (a stray assigned pixel) is dropped.
+    const int pad = kBridge;
+    const cv::Rect roi =
+        cv::Rect(box[k].x - pad, box[k].y - pad, box[k].width + 2 * pad, box[k].height + 2 * pad) &
+        cv::Rect(0, 0, labels.cols, labels.rows);
+    const cv::Mat own = labels(roi) == k;
+    cv::Mat mask, near_pale;
+    const cv::Mat disc = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * pad + 1, 2 * pad + 1));
+    cv::morphologyEx(own, mask, cv::MORPH_CLOSE, disc, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+    // Only around its pale parts: elsewhere the outline stays as found.
+    cv::dilate(own & pale(roi), near_pale, disc);
+    mask &= near_pale;
+    mask |= own;  // the closing never takes a pixel away, even at the photo's edge
+    std::vector<cv::Point> c = largest_contour(mask, roi.tl());
+    if (!c.empty()) out.push_back(std::move(c));
+  }
+  return out;
+}
+
 Segmentation segment_feathers(const cv::Mat& bgr) {
   Segmentation seg;
   double sigma = 0;
@@ -283,10 +558,20 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
     for (int x = 0; x < bin.cols; ++x) b[x] = (l[x] > 0 && seeded[l[x]]) ? 255 : 0;
   }
 
-  std::vector<std::vector<cv::Point>> contours;
-  cv::findContours(bin, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
   const double image_area = double(bgr.total());
   const double min_area = std::max(150.0, 3e-4 * image_area);
+  // On a mid-grey card, pale parts lighter than the card join their feathers or
+  // stand as feathers of their own (label_with_pale_parts).
+  const double bg_luma = 0.114 * bg[0] + 0.587 * bg[1] + 0.299 * bg[2];
+  std::vector<std::vector<cv::Point>> contours;
+  if (bg_luma >= kPaleCardMin && bg_luma <= kPaleCardMax) {
+    cv::Mat pale;
+    const cv::Mat labels = label_with_pale_parts(bgr, bin, sigma, open_k, min_area, pale);
+    seg.foreground |= labels > 0;
+    contours = label_contours(labels, pale);
+  } else {
+    cv::findContours(bin, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+  }
   std::vector<Component> kept;
   std::vector<cv::Rect> marks;  // everything that could be a letter, for text lines
   double largest = 0;
@@ -350,6 +635,32 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
     Cores cores = find_cores(comp.mask);
     comp.cores = cores.n;
     measure_shape(comp, bgr.size());
+    // With pale parts joined, how many feathers the region holds is judged on
+    // its part that stands out by colour, as without them: white tips that
+    // touch would otherwise join two feathers' cores. The pale parts then go
+    // with the piece whose flood reaches them first.
+    const cv::Mat colour_part = comp.mask & bin(comp.bbox);
+    const int colour_pixels = cv::countNonZero(colour_part);
+    if (colour_pixels == 0 && comp.touches_border) continue;  // a lighter strip along a scan's edge
+    if (colour_pixels > 0 && colour_pixels < cv::countNonZero(comp.mask)) {
+      Component colour;
+      colour.bbox = comp.bbox;
+      colour.contour = largest_contour(colour_part, comp.bbox.tl());
+      if (!colour.contour.empty()) {
+        // Filled, as a region by colour alone is (its holes are no background).
+        colour.mask = cv::Mat::zeros(comp.bbox.size(), CV_8U);
+        cv::drawContours(colour.mask, std::vector<std::vector<cv::Point>>{colour.contour}, 0, cv::Scalar(255),
+                         cv::FILLED, cv::LINE_8, cv::noArray(), 0, -comp.bbox.tl());
+        colour.area = cv::contourArea(colour.contour);
+        close_barb_gaps(colour);
+        measure_shape(colour, bgr.size());
+        const Cores judged = find_cores(colour.mask);
+        cores.markers = judged.markers;
+        cores.n = judged.n;
+        comp.cores = judged.n;
+        comp.solidity = colour.solidity;
+      }
+    }
     if (comp.cores > 1) {
       std::vector<Component> pieces = separate(comp, cores, bgr.size(), min_area);
       if (!pieces.empty()) {

@@ -205,15 +205,26 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   if (r1 - r0 < 8) throw Error("feather too short to trace a shaft");
 
   // The calamus end is the one with the longer run of rows where only the
-  // bare quill is left (width well under the vane's).
+  // bare quill is left (width well under the vane's). A rounded tip (a white
+  // tip on a mid-grey card, where the quill's end may hide under a glue dot)
+  // can have the longer run under 30 % of the widest, but a quill is narrow
+  // throughout: an end where at least kMinQuillRows rows, and half of its run
+  // under 30 %, are under 10 % of the widest is a quill; a rounded or pointed
+  // tip narrows gradually (a half disc: a tenth as many rows under 10 % as
+  // under 30 %; a straight taper: a third). When exactly one end is a quill, it
+  // is the calamus.
   const int wmax = *std::max_element(width.begin(), width.end());
-  auto run = [&](int from, int step) {
+  auto run = [&](int from, int step, double below) {
     int k = 0;
-    for (int y = from; y >= r0 && y <= r1 && width[y] < 0.3 * wmax; y += step) ++k;
+    for (int y = from; y >= r0 && y <= r1 && width[y] < below * wmax; y += step) ++k;
     return k;
   };
-  const int run_top = run(r0, +1), run_bottom = run(r1, -1);
-  const bool calamus_at_bottom = run_bottom >= run_top;
+  const int run_top = run(r0, +1, 0.3), run_bottom = run(r1, -1, 0.3);
+  const int quill_top = run(r0, +1, 0.1), quill_bottom = run(r1, -1, 0.1);
+  constexpr int kMinQuillRows = 3;
+  const bool top_is_quill = quill_top >= kMinQuillRows && 2 * quill_top >= run_top;
+  const bool bottom_is_quill = quill_bottom >= kMinQuillRows && 2 * quill_bottom >= run_bottom;
+  const bool calamus_at_bottom = top_is_quill != bottom_is_quill ? bottom_is_quill : run_bottom >= run_top;
 
   // Dynamic programming: the path maximising the line score plus the vanes'
   // chevron score, moving at most two columns per row, with a small price per
@@ -230,7 +241,8 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   cv::Mat line;
   cv::log(1.0 + ridge / std::max(mean_ridge, 1e-6), line);
   line *= mean_ridge;
-  const int tip_step = run_top == run_bottom ? 0 : calamus_at_bottom ? -1 : +1;
+  const bool ends_alike = top_is_quill == bottom_is_quill && run_top == run_bottom;
+  const int tip_step = ends_alike ? 0 : calamus_at_bottom ? -1 : +1;
   const cv::Mat score = line + 4.0 * lambda * chevron_score(S, M, tip_step);
   const float NEG = -std::numeric_limits<float>::infinity();
   std::vector<float> prev(W, 0.f), cur(W);

@@ -1,0 +1,211 @@
+// Pale parts on a mid-grey card (docs/analysis.md, "Pale parts"): a white tip
+// is part of its feather's outline and its shaft, a white downy feather is a
+// feather of its own, and a card with noise and a scanner's gradient has no
+// pale parts; nor do white or black cards, where nothing is paler than the card
+// or than the feather's own colour.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <random>
+#include <unistd.h>
+
+#include "plumage/common/image.h"
+#include "plumage/generator/analysis/analyze.h"
+#include "plumage/generator/analysis/layout.h"
+
+using namespace plumage;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path pale_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("plumage_pale_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+// An upright feather (tip up) drawn from its outline: a bare quill `quill` px
+// long and 4 px wide, then the vane, full half-width `half` within 6 px, held
+// to where the tip begins, then tapering straight to a point over `taper` px.
+// The vane above `white_from` (distance from the calamus) is white, below it
+// dark blue-grey; barbs slant toward the tip at 40 degrees, one every 7 px.
+struct UprightFeather {
+  double cx = 300, calamus_y = 600, length = 440, quill = 22, half = 46, taper = 150;
+  double white_from = 1e9;
+  glm::vec3 dark{0.17f, 0.21f, 0.29f}, white{0.94f, 0.93f, 0.90f}, rachis{0.08f};
+  glm::dvec2 calamus() const { return {cx, calamus_y}; }
+  glm::dvec2 tip() const { return {cx, calamus_y - length}; }
+  double half_width(double s) const {
+    if (s < 0 || s > length) return -1;
+    if (s < quill) return 2;
+    const double base = std::min(1.0, (s - quill) / 6.0), top = std::min(1.0, (length - s) / taper);
+    return std::max(2.0, half * std::min(base, top));
+  }
+  // Colour at (x, y), or false outside.
+  bool paint(double x, double y, glm::vec3& c) const {
+    const double s = calamus_y - y, d = x - cx, hw = half_width(s);
+    if (hw < 0 || std::fabs(d) > hw) return false;
+    const bool pale = s >= white_from;
+    if (std::fabs(d) <= 1.6) {  // rachis, and the bare quill
+      c = pale ? glm::vec3(0.82f, 0.80f, 0.76f) : rachis;
+      return true;
+    }
+    const double phase = (s - std::fabs(d) / std::tan(40.0 * 3.14159265 / 180.0)) / 7.0;
+    const float shade = float(0.85 + 0.15 * std::cos(2 * 3.14159265 * phase));
+    c = (pale ? white : dark) * (pale ? 0.5f + 0.5f * shade : shade);
+    return true;
+  }
+};
+
+// A card of colour `card` (sRGB), `gradient` darker toward the left edge (a
+// scanner's), with what `paint` draws on it, 3x3 supersampled, blurred and with
+// Gaussian noise of sigma `noise`.
+using Paint = std::function<bool(double, double, glm::vec3&)>;
+Image draw_card(int w, int h, float card, float gradient, float noise, const std::vector<Paint>& paints,
+                unsigned seed = 1) {
+  Image img(w, h, 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      glm::vec3 acc(0.f);
+      for (int sy = 0; sy < 3; ++sy)
+        for (int sx = 0; sx < 3; ++sx) {
+          const double px = x + (sx + 0.5) / 3.0, py = y + (sy + 0.5) / 3.0;
+          glm::vec3 c(card - gradient * float(1.0 - px / w));
+          for (const Paint& p : paints) p(px, py, c);
+          acc += c;
+        }
+      img.set_rgb(x, y, acc / 9.0f);
+    }
+  Image out(w, h, 3);
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> n(0.f, noise);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      glm::vec3 s(0.f);
+      float wsum = 0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int xx = std::clamp(x + dx, 0, w - 1), yy = std::clamp(y + dy, 0, h - 1);
+          const float k = float((2 - std::abs(dx)) * (2 - std::abs(dy)));
+          s += img.rgb(xx, yy) * k, wsum += k;
+        }
+      s /= wsum;
+      for (int k = 0; k < 3; ++k) out.at(x, y)[k] = srgb_to_linear(std::clamp(s[k] + n(rng), 0.f, 1.f));
+    }
+  return out;
+}
+
+Paint paint_of(const UprightFeather& f) {
+  return [f](double x, double y, glm::vec3& c) { return f.paint(x, y, c); };
+}
+
+glm::dvec2 shaft_end(const FeatherLayout& f, double t) {
+  return f.image_from_feather * glm::dvec3(f.shaft_mm.eval(t), 1.0);
+}
+
+double outline_top(const FeatherLayout& f) {
+  double top = 1e300;
+  for (const glm::dvec2& p : f.outline_px) top = std::min(top, p.y);
+  return top;
+}
+
+// The feather whose shaft middle is nearest (x, y).
+const FeatherLayout* nearest(const Layout& L, glm::dvec2 at) {
+  const FeatherLayout* best = nullptr;
+  double d = 1e300;
+  for (const FeatherLayout& f : L.feathers) {
+    const double e = glm::length(0.5 * (shaft_end(f, 0) + shaft_end(f, 1)) - at);
+    if (e < d) d = e, best = &f;
+  }
+  return best;
+}
+
+}  // namespace
+
+// A dark feather with a white tip that tapers to a point, on a mid-grey card
+// 25 levels darker at the left edge. The tip differs from the card by less than
+// the card's own range over the photo, so by colour alone the outline ends
+// where the white begins. Measured against the card near it, the tip is part
+// of the outline, the shaft runs into it, and the calamus is the quill: the
+// pointed tip has more rows under 30 % of the widest width (0.3 x 150 = 45)
+// than the quill (22), so only the quill test (rows under 10 %) reads it the
+// right way round.
+TEST(AnalysisPale, WhiteTipIsInTheOutlineAndTheShaftAndTheQuillIsTheCalamus) {
+  const fs::path dir = pale_dir("tip");
+  UprightFeather f;
+  f.white_from = 0.68 * f.length;
+  write_image(dir / "tip.png", draw_card(700, 700, 0.64f, 0.10f, 0.015f, {paint_of(f)}));
+  const PhotoAnalysis A = analyze_photo(dir / "tip.png", AnalyzeOptions{});
+  ASSERT_EQ(A.layout.feathers.size(), 1u);
+  EXPECT_TRUE(A.layout.skipped.empty());
+  const FeatherLayout& F = A.layout.feathers[0];
+  // The outline reaches the tip's point (within 3 % of the length), not the
+  // start of the white part, 140 px below it.
+  EXPECT_LT(outline_top(F), f.tip().y + 0.03 * f.length);
+  const glm::dvec2 c = shaft_end(F, 0), tip = shaft_end(F, 1);
+  EXPECT_LT(glm::length(c - f.calamus()), 0.04 * f.length) << "calamus at " << c.x << "," << c.y;
+  EXPECT_LT(glm::length(tip - f.tip()), 0.08 * f.length) << "tip at " << tip.x << "," << tip.y;
+  fs::remove_all(dir);
+}
+
+// A white downy feather (white vane, pale quill, no part that stands out by
+// colour) beside a dark feather on the same grey card: two feathers, the white
+// one read from its quill to its tip.
+TEST(AnalysisPale, WhiteDownyFeatherIsAFeatherOfItsOwn) {
+  const fs::path dir = pale_dir("downy");
+  UprightFeather dark;
+  dark.cx = 220;
+  UprightFeather down;
+  down.cx = 520, down.length = 300, down.calamus_y = 560, down.half = 60, down.taper = 110;
+  down.white_from = 0;  // white throughout
+  write_image(dir / "downy.png", draw_card(760, 700, 0.62f, 0.08f, 0.015f, {paint_of(dark), paint_of(down)}));
+  const PhotoAnalysis A = analyze_photo(dir / "downy.png", AnalyzeOptions{});
+  ASSERT_EQ(A.layout.feathers.size(), 2u);
+  EXPECT_TRUE(A.layout.skipped.empty());
+  const FeatherLayout* W = nearest(A.layout, {down.cx, down.calamus_y - 0.5 * down.length});
+  ASSERT_NE(W, nullptr);
+  EXPECT_LT(glm::length(shaft_end(*W, 0) - down.calamus()), 0.06 * down.length);
+  EXPECT_LT(glm::length(shaft_end(*W, 1) - down.tip()), 0.1 * down.length);
+  fs::remove_all(dir);
+}
+
+// Nothing is pale on a plain card with noise: on mid-grey with a scanner's
+// gradient, on white and on black, one feather with no pale part is found as
+// exactly itself (its outline within a few pixels of the drawn one), and a
+// card without a feather has none.
+TEST(AnalysisPale, NoPalePartsOnPlainCardsWithNoise) {
+  const fs::path dir = pale_dir("plain");
+  struct Card {
+    const char* name;
+    float colour, gradient;
+    glm::vec3 vane, rachis;
+  };
+  for (const Card& k : {Card{"grey", 0.64f, 0.12f, {0.17f, 0.21f, 0.29f}, glm::vec3(0.08f)},
+                        Card{"white", 0.96f, 0.0f, {0.45f, 0.30f, 0.25f}, glm::vec3(0.08f)},
+                        Card{"black", 0.04f, 0.0f, {0.80f, 0.70f, 0.62f}, glm::vec3(0.95f)}}) {
+    UprightFeather f;
+    f.dark = k.vane, f.rachis = k.rachis;
+    const fs::path photo = dir / (std::string(k.name) + ".png");
+    write_image(photo, draw_card(700, 700, k.colour, k.gradient, 0.03f, {paint_of(f)}, 7));
+    const PhotoAnalysis A = analyze_photo(photo, AnalyzeOptions{});
+    ASSERT_EQ(A.layout.feathers.size(), 1u) << k.name;
+    EXPECT_TRUE(A.layout.skipped.empty()) << k.name;
+    // The outline's box is the drawn feather's, within 6 px each way.
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+    for (const glm::dvec2& p : A.layout.feathers[0].outline_px)
+      x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+    EXPECT_NEAR(x0, f.cx - f.half, 6) << k.name;
+    EXPECT_NEAR(x1, f.cx + f.half, 6) << k.name;
+    EXPECT_NEAR(y0, f.tip().y, 6) << k.name;
+    EXPECT_NEAR(y1, f.calamus_y, 6) << k.name;
+    // The card alone: no feather at all.
+    const fs::path empty = dir / (std::string(k.name) + "_empty.png");
+    write_image(empty, draw_card(700, 700, k.colour, k.gradient, 0.03f, {}, 8));
+    EXPECT_THROW(analyze_photo(empty, AnalyzeOptions{}), std::exception) << k.name;
+  }
+  fs::remove_all(dir);
+}
