@@ -28,7 +28,7 @@ cv::Mat composite_alpha(const cv::Mat& bgra) {
   std::vector<cv::Mat> ch;
   cv::split(bgra, ch);
   const cv::Scalar opaque_mean = cv::mean(bgra, ch[3] > 127);
-  const double luma = 0.114 * opaque_mean[0] + 0.587 * opaque_mean[1] + 0.299 * opaque_mean[2];
+  const double luma = luma_bgr(opaque_mean);
   const double backdrop = luma > 127 ? 0.0 : 255.0;
   cv::Mat a;
   ch[3].convertTo(a, CV_32F, 1.0 / 255.0);

@@ -21,7 +21,7 @@ void border_statistics(const cv::Mat& bgr, cv::Vec3d& median, double& sigma) {
   auto take = [&](int x, int y) {
     const cv::Vec3b p = bgr.at<cv::Vec3b>(y, x);
     for (int c = 0; c < 3; ++c) ch[c].push_back(p[c]);
-    luma.push_back(0.114 * p[0] + 0.587 * p[1] + 0.299 * p[2]);
+    luma.push_back(luma_bgr(p));
   };
   for (int y = 0; y < bgr.rows; ++y)
     for (int x = 0; x < bgr.cols; ++x)
@@ -514,7 +514,7 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   double sigma = 0;
   border_statistics(bgr, seg.background_bgr, sigma);
   const cv::Vec3d& bg = seg.background_bgr;
-  seg.dark_background = 0.114 * bg[0] + 0.587 * bg[1] + 0.299 * bg[2] < 128;
+  seg.dark_background = luma_bgr(bg) < 128;
 
   // Distance to the background colour: the largest channel difference, so a
   // pale pink on white and a grey on black both stand out.
@@ -562,7 +562,7 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   const double min_area = std::max(150.0, 3e-4 * image_area);
   // On a mid-grey card, pale parts lighter than the card join their feathers or
   // stand as feathers of their own (label_with_pale_parts).
-  const double bg_luma = 0.114 * bg[0] + 0.587 * bg[1] + 0.299 * bg[2];
+  const double bg_luma = luma_bgr(bg);
   std::vector<std::vector<cv::Point>> contours;
   if (bg_luma >= kPaleCardMin && bg_luma <= kPaleCardMax) {
     cv::Mat pale;
