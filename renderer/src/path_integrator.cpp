@@ -204,6 +204,7 @@ class LightChoice {
     return float(picks_) * (estimated_ ? (*pmf_)[i] : 1.0f / float(n_));
   }
   int picks() const { return picks_; }
+  std::size_t count() const { return n_; }
   std::size_t choose(float u) const {
     if (estimated_) return pick_from_pmf(*pmf_, u);
     return std::min(std::size_t(u * float(n_)), n_ - 1);
@@ -297,7 +298,7 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
     // environment is left to BCSDF sampling where that follows f cos.
     const glm::vec4 ul = sampler.next4();
     const std::size_t n_lights = bsdf->samples_like_f_cos() ? lights_.sampled_count() : lights_.count();
-    pick = LightChoice(n_lights, settings_.light_pick, settings_.light_picks);
+    if (n_lights != pick.count()) pick = LightChoice(n_lights, settings_.light_pick, settings_.light_picks);
     if (n_lights > 0) {
       if (settings_.light_pick == LightPick::All) {
         glm::vec4 u = ul;
