@@ -32,6 +32,9 @@ struct Scatter {
     float pdf;
     for (std::size_t i = 0; i < lp.size(); ++i) w[i] = luminance(lp.strength(i) * f_cos(lp.wi(i), &pdf));
   }
+  // Whether sample() follows f cos closely enough that a constant environment is
+  // left to it alone (LightSet::sampled_count()).
+  virtual bool samples_like_f_cos() const { return true; }
 };
 
 // Lambertian card, seen from either side.
@@ -132,6 +135,9 @@ struct FarfieldScatter final : Scatter {
     for (std::size_t i = 0; i < lp.size(); ++i)
       w[i] = luminance(lp.strength(i) * model.f_cos(out, frame.to_local(lp.wi(i)), nullptr));
   }
+  // Its sampling is uniform within a table bin while f cos interpolates between
+  // bins: it keeps light sampling of a constant environment too.
+  bool samples_like_f_cos() const override { return false; }
   bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const override {
     glm::vec3 wl;
     if (!model.sample(out, {u.x, u.y, u.z}, &wl, weight, pdf)) return false;
@@ -163,6 +169,8 @@ constexpr float kEnvironmentResponse = 0.5f / kPi;
 
 // Next-event estimation's choice of light at one vertex, and the probability of
 // that choice for MIS when a BCSDF-sampled ray of the same vertex hits a light.
+// It chooses among the first n lights (LightSet::sampled_count()); a light past
+// them is never chosen and has probability 0.
 // The pmf lives in per-thread buffers (Li is not re-entrant), so a path allocates nothing.
 class LightChoice {
  public:
@@ -181,20 +189,22 @@ class LightChoice {
   void estimate(const LightSet& lights, const glm::vec3& p, const Scatter& bsdf) {
     if (n_ <= 1) return;  // one light needs no weighing: it is chosen with probability 1 either way
     thread_local LightProxies proxies;
-    weights_->resize(n_);
-    pmf_->resize(n_);
     lights.proxies(p, proxies);
+    weights_->resize(proxies.size());
+    pmf_->resize(n_);
     bsdf.estimate_weights(proxies, weights_->data());
     if (proxies.environment < n_)
       (*weights_)[proxies.environment] = luminance(proxies.strength(proxies.environment)) * kEnvironmentResponse;
-    light_pick_pmf(*weights_, *pmf_);
+    light_pick_pmf(std::span<const float>(weights_->data(), n_), *pmf_);
     estimated_ = true;
   }
   float prob(std::size_t i) const {
+    if (i >= n_) return 0.0f;
     if (mode_ == LightPick::All) return 1.0f;
     return float(picks_) * (estimated_ ? (*pmf_)[i] : 1.0f / float(n_));
   }
   int picks() const { return picks_; }
+  std::size_t count() const { return n_; }
   std::size_t choose(float u) const {
     if (estimated_) return pick_from_pmf(*pmf_, u);
     return std::min(std::size_t(u * float(n_)), n_ - 1);
@@ -240,8 +250,8 @@ PathIntegrator::PathIntegrator(const Scene& scene, const LightSet& lights, const
 
 glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& counters) const {
   glm::vec3 L(0), beta(1);
-  const std::size_t n_lights = lights_.count();
-  LightChoice pick(n_lights, settings_.light_pick, settings_.light_picks);  // the selection pmf at the last vertex (MIS needs it on a light hit)
+  // The selection pmf at the last vertex (MIS needs it on a light hit).
+  LightChoice pick(lights_.count(), settings_.light_pick, settings_.light_picks);
   float prev_pdf = 0;      // pdf of the BCSDF sample that made `ray`
   bool from_camera = true; // no MIS for what the camera sees directly
   for (int depth = 0;; ++depth) {
@@ -260,9 +270,9 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
     if (!found) {
       float pdf_env = 0;
       const glm::vec3 Le = lights_.environment_Le(ray.d, &pdf_env);
-      const float w = from_camera || !(pdf_env > 0)
-                          ? 1.0f
-                          : power_heuristic(prev_pdf, pdf_env * pick.prob(lights_.environment_index()));
+      const float pick_env = pick.prob(lights_.environment_index());  // 0 for a constant environment
+      const float w = from_camera || !(pdf_env > 0) || !(pick_env > 0) ? 1.0f
+                                                                       : power_heuristic(prev_pdf, pdf_env * pick_env);
       L += beta * Le * w;
       break;
     }
@@ -284,8 +294,11 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
     }
 
     // Next-event estimation (settings_.light_pick): one light chosen uniformly or
-    // by its estimate, or every light; one shadow ray each.
+    // by its estimate, or every light; one shadow ray each. A constant
+    // environment is left to BCSDF sampling where that follows f cos.
     const glm::vec4 ul = sampler.next4();
+    const std::size_t n_lights = bsdf->samples_like_f_cos() ? lights_.sampled_count() : lights_.count();
+    if (n_lights != pick.count()) pick = LightChoice(n_lights, settings_.light_pick, settings_.light_picks);
     if (n_lights > 0) {
       if (settings_.light_pick == LightPick::All) {
         glm::vec4 u = ul;

@@ -29,6 +29,8 @@ class EnvironmentLight {
   // Importance samples the image by luminance x sin(theta) (uniform sphere for a constant).
   EnvSample sample(const glm::vec2& u) const;
   float pdf(const glm::vec3& d) const;
+  // A single colour in every direction (no image).
+  bool is_constant() const { return image_.empty(); }
   // Luminance averaged over the sphere of directions.
   float mean_luminance() const { return mean_luminance_; }
 

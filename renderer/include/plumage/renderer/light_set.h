@@ -95,6 +95,13 @@ class LightSet {
   const EnvironmentLight* environment() const { return env_ ? &*env_ : nullptr; }
   // Index of the environment among the lights (count() when there is none).
   std::size_t environment_index() const { return env_ ? count() - 1 : count(); }
+  // The lights next-event estimation needs where the scatterer samples its own
+  // f cos (a card, a fibre): indices 0 .. sampled_count() - 1, every light but a
+  // constant environment. For constant L_e a vertex integrates L_e f cos V, and
+  // directions drawn in proportion to f cos (exactly for a card, the lobe mixture
+  // of a fibre) do at least as well as uniform ones on the sphere, so that light is
+  // left to BCSDF sampling alone (docs/rendering.md, "Integrator").
+  std::size_t sampled_count() const { return env_ && env_->is_constant() ? count() - 1 : count(); }
 
   // A direction on light i as seen from p, sampled with u; pdf excludes the choice of light.
   std::optional<LightSample> sample(std::size_t i, const glm::vec3& p, const glm::vec2& u) const;
