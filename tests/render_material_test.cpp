@@ -8,10 +8,12 @@
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
 #include "plumage/common/stats.h"
+#include "plumage/generator/layout_to_params.h"
 #include "plumage/renderer/feather_render.h"
 #include "plumage/renderer/render.h"
 #include "plumage/renderer/ribbon_layers.h"
 #include "plumage/renderer/scene.h"
+#include "one_barb.h"
 #include "render_test_feather.h"
 
 using namespace plumage;
@@ -143,14 +145,11 @@ glm::vec3 closed_vane_over_card(ShadingMode mode, const glm::vec3& albedo, float
   const float W = 0.6f, gap = W / overlap;
   Feather f;
   for (int k = -40; k <= 40; ++k) f.curves.push_back(test::straight_curve(CurveKind::Barb, {0, gap * k, 0}, 9, 0.03f));
-  SubstructureParams s;
-  s.ramus_radius = 0.03f;
-  s.barbule_radius = 0.006f;
-  s.elevation_deg = 45;
-  s.azimuth_deg = 10;
-  s.hooked_fraction = 0.3f;
-  s.ribbon_width = W;
-  s.barbules_per_side = int(std::ceil(1.1 * 12.0 * std::sin(45.0 * 3.14159265 / 180.0) / (2.0 * 0.006)));
+  // r_r 30 um, r_b 6 um, theta_b 45, phi_b 10, hooked 0.3: a photo feather's (docs/analysis.md).
+  SubstructureParams s = test::substructure_params(0, 45, 0.03, 0.006, W, 10, 0.3);
+  // The barbs are 6 mm long; N closes a 12 mm barb (as a photo feather's barb half
+  // its vane's longest). At N closing the 6 mm barb itself, green comes out 6 % light.
+  s.barbules_per_side = closing_barbule_count(12.0, s);
   f.left = f.right = s;
   const fs::path tex = fs::temp_directory_path() / ("plumage_vane_albedo_" + std::to_string(::getpid()) + ".png");
   Image t(4, 4, 3);
