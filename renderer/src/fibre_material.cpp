@@ -56,10 +56,17 @@ glm::vec3 photo_albedo_to_fibre(const glm::vec3& area_albedo, float coverage, in
   return glm::vec3(1.0f) - (glm::vec3(1.0f) - t) / coverage;
 }
 
+void FibreMaterial::set_card(const glm::vec3& card, const CardResponse& response) {
+  card_ = card;
+  card_response_ = response;
+}
+
 HairParams FibreMaterial::at(const glm::vec3& p, float coverage, int layers) const {
   HairParams hp = params_;
   if (albedo_ && albedo_->textured() && mapping_ == AlbedoMapping::Layer) {
-    hp.sigma_a = sigma_a_from(photo_albedo_to_fibre(albedo_->at({p.x, p.y}), coverage, layers));
+    glm::vec3 a = albedo_->at({p.x, p.y});
+    if (card_) a = albedo_over_card(a, *card_, card_response_);
+    hp.sigma_a = sigma_a_from(photo_albedo_to_fibre(a, coverage, layers));
     return hp;
   }
   hp.sigma_a = albedo_ && albedo_->textured() ? sigma_a_from(albedo_->at({p.x, p.y})) : constant_sigma_a_;

@@ -10,6 +10,7 @@
 
 #include "plumage/common/feather.h"
 #include "plumage/common/image.h"
+#include "plumage/renderer/card_response.h"
 #include "plumage/renderer/hair_bcsdf.h"
 
 namespace plumage {
@@ -62,6 +63,12 @@ class FibreMaterial {
   // preset's) is the fibres' own colour and is used as it is.
   HairParams at(const glm::vec3& p, float coverage = 1.0f, int layers = 1) const;
 
+  // The texture is a photo's on a light background, relative to the card the
+  // feather lies on in the render (albedo `card`): before the mapping, its albedo
+  // becomes albedo_over_card(A, card, response), so the vane looks A times that
+  // card although part of its light never reaches the card (card_response.h).
+  void set_card(const glm::vec3& card, const CardResponse& response);
+
  private:
   glm::vec3 sigma_a_from(const glm::vec3& albedo) const;
 
@@ -69,6 +76,8 @@ class FibreMaterial {
   std::optional<AlbedoMap> albedo_;
   AlbedoMapping mapping_ = AlbedoMapping::Layer;
   glm::vec3 constant_sigma_a_;
+  std::optional<glm::vec3> card_;
+  CardResponse card_response_;
 };
 
 }  // namespace plumage
