@@ -109,6 +109,44 @@ TEST_F(ImageFiles, PngRoundTripWithinOneQuantisationStep) {
   }
 }
 
+TEST_F(ImageFiles, PngCodesAreLinearToSrgbRoundedAndBackIsSrgbToLinear) {
+  // The writer's codes without a pow per value must be exactly
+  // lround(clamp(linear_to_srgb(v), 0, 1) * 255), and the reader's remembered
+  // decode exactly srgb_to_linear(code / 255): a dense sweep over [-0.1, 1.2],
+  // every code's boundary (the least float with that code) and the float below
+  // it, NaN and infinities.
+  const auto code = [](float v) { return long(std::lround(std::clamp(linear_to_srgb(v), 0.0f, 1.0f) * 255.0f)); };
+  std::vector<float> values;
+  for (int i = 0; i <= 1300000; ++i) values.push_back(-0.1f + 1.3f * float(i) / 1300000.0f);
+  for (long k = 1; k <= 255; ++k) {
+    std::uint32_t lo = 0, hi = 0x7f800000u;
+    while (lo < hi) {
+      const std::uint32_t mid = lo + (hi - lo) / 2;
+      float v;
+      std::memcpy(&v, &mid, sizeof v);
+      if (code(v) >= k) hi = mid; else lo = mid + 1;
+    }
+    float b;
+    std::memcpy(&b, &lo, sizeof b);
+    values.push_back(b);
+    values.push_back(std::nextafter(b, 0.0f));
+  }
+  for (float v : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                  -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::denorm_min(), 0.0f, -0.0f})
+    values.push_back(v);
+  const int w = 1024, h = int((values.size() + w - 1) / w);
+  Image img(w, h, 1, 0.0f);
+  std::copy(values.begin(), values.end(), img.pixels.begin());
+  const fs::path f = dir_ / "codes.png";
+  write_image(f, img);
+  const Image raw = read_image(f, false);
+  const Image linear = read_image(f);
+  for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+    ASSERT_EQ(std::lround(raw.pixels[i] * 255.0f), code(img.pixels[i])) << "value " << img.pixels[i];
+    ASSERT_EQ(linear.pixels[i], srgb_to_linear(raw.pixels[i])) << "value " << img.pixels[i];
+  }
+}
+
 TEST_F(ImageFiles, PngKeepsRowOrderAndChannels) {
   Image img(4, 3, 3, 0.0f);
   img.set_rgb(0, 0, {1, 0, 0});  // top-left red

@@ -1,8 +1,11 @@
 #include "plumage/common/image.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -46,6 +49,35 @@ std::string lower_ext(const fs::path& p) {
   return e;
 }
 
+// The 8-bit sRGB code of a linear value: lround(clamp(linear_to_srgb(v), 0, 1) * 255).
+std::uint8_t srgb_code_reference(float v) {
+  return static_cast<std::uint8_t>(std::lround(std::clamp(linear_to_srgb(v), 0.0f, 1.0f) * 255.0f));
+}
+
+// The same code without a pow per value: every step of srgb_code_reference is
+// monotone in v, so code(v) is the number of k in 1..255 whose threshold (the
+// least positive float with code k or more, found once by bisection over the
+// floats' bit patterns, which order positive floats) is <= v.
+struct SrgbCodes {
+  std::array<float, 255> threshold;
+  SrgbCodes() {
+    for (int k = 1; k <= 255; ++k) {
+      std::uint32_t lo = 0, hi = 0x7f800000u;  // +0 ... +inf
+      while (lo < hi) {
+        const std::uint32_t mid = lo + (hi - lo) / 2;
+        float v;
+        std::memcpy(&v, &mid, sizeof v);
+        if (srgb_code_reference(v) >= k) hi = mid; else lo = mid + 1;
+      }
+      std::memcpy(&threshold[std::size_t(k - 1)], &lo, sizeof(float));
+    }
+  }
+  std::uint8_t operator()(float v) const {
+    if (!(v > 0.0f)) return 0;  // also NaN, as linear_to_srgb
+    return static_cast<std::uint8_t>(std::upper_bound(threshold.begin(), threshold.end(), v) - threshold.begin());
+  }
+};
+
 // Encodes `img` into `file` (a temporary name); errors name `path`, the target.
 void encode_image(const fs::path& file, const fs::path& path, const Image& img) {
   if (img.width <= 0 || img.height <= 0 || img.channels <= 0 ||
@@ -57,6 +89,9 @@ void encode_image(const fs::path& file, const fs::path& path, const Image& img) 
   if (!out) throw Error(Location{path.string()}, "no image writer for extension '" + ext + "': " + OIIO::geterror());
   OIIO::ImageSpec spec(img.width, img.height, img.channels, is_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   if (ext == ".exr") spec.attribute("compression", "zip");
+  // zlib level 1 instead of OIIO's 6: the artifacts are a few per cent larger
+  // and written several times faster (docs/perf/p2f.md).
+  if (ext == ".png") spec.attribute("png:compressionLevel", 1);
   // Pixels go to the file as given: without this OIIO divides colour by alpha
   // for PNG, and does so after our sRGB encoding.
   spec.attribute("oiio:UnassociatedAlpha", 1);
@@ -65,12 +100,14 @@ void encode_image(const fs::path& file, const fs::path& path, const Image& img) 
   if (is_float) {
     ok = out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
   } else {
+    static const SrgbCodes srgb_code;
     std::vector<unsigned char> bytes(img.pixels.size());
     const int alpha = img.channels == 4 || img.channels == 2 ? img.channels - 1 : -1;
     for (std::size_t i = 0; i < img.pixels.size(); ++i) {
-      float v = img.pixels[i];
-      if (int(i % img.channels) != alpha) v = linear_to_srgb(v);
-      bytes[i] = static_cast<unsigned char>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+      const float v = img.pixels[i];
+      bytes[i] = int(i % img.channels) != alpha
+                     ? srgb_code(v)
+                     : static_cast<unsigned char>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
     }
     ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
   }
@@ -187,9 +224,23 @@ Image read_image(const fs::path& path, bool linearize, double max_megapixels) {
                         spec.format.basetype == OIIO::TypeDesc::DOUBLE;
   in->close();
   if (linearize && !is_float) {
+    // An 8-bit file holds at most 256 values: each is decoded once and remembered
+    // by its exact float (the same result as srgb_to_linear on every sample,
+    // without a pow per sample).
+    std::array<float, 256> in_value, out_value;
+    in_value.fill(std::numeric_limits<float>::quiet_NaN());
     const int alpha = spec.alpha_channel;
-    for (std::size_t i = 0; i < img.pixels.size(); ++i)
-      if (int(i % img.channels) != alpha) img.pixels[i] = srgb_to_linear(img.pixels[i]);
+    for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+      if (int(i % img.channels) == alpha) continue;
+      float& v = img.pixels[i];
+      const long k = std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f);
+      if (in_value[std::size_t(k)] == v) {
+        v = out_value[std::size_t(k)];
+        continue;
+      }
+      in_value[std::size_t(k)] = v;
+      v = out_value[std::size_t(k)] = srgb_to_linear(v);
+    }
   }
   return img;
 }

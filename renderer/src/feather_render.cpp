@@ -32,9 +32,13 @@ LightSet view_lights(const Bounds3f& fb, const DomeRig& rig, const ViewSpec& vie
   return lights;
 }
 
-FibreMaterial view_material(const Feather& feather, const ViewSpec& view) {
+FibreMaterial view_material(const Feather& feather, const ViewSpec& view, ShadingMode mode) {
   validate(view.hair, "--beta-m/--beta-n/--alpha/--eta");
-  if (!view.sigma_a) return FibreMaterial(view.hair, AlbedoMap(feather.albedo, view.base_dir));
+  if (!view.sigma_a) {
+    FibreMaterial m(view.hair, AlbedoMap(feather.albedo, view.base_dir));
+    if (view.photo_card) m.set_card(*view.photo_card, card_response(mode));
+    return m;
+  }
   HairParams hp = view.hair;
   hp.sigma_a = *view.sigma_a;
   return FibreMaterial(hp);
@@ -43,7 +47,7 @@ FibreMaterial view_material(const Feather& feather, const ViewSpec& view) {
 Image render_view(const Scene& scene, const DomeRig& rig, const ViewSpec& view) {
   const Bounds3f& fb = scene.feather_bounds();
   const LightSet lights = view_lights(fb, rig, view);
-  const FibreMaterial material = view_material(scene.feather(), view);
+  const FibreMaterial material = view_material(scene.feather(), view, scene.options().mode);
   if (view.max_depth < 0) throw Error("--max-depth must be 0 or more");
   IntegratorSettings is;
   is.max_depth = view.max_depth;

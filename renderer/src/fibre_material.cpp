@@ -46,11 +46,27 @@ glm::vec3 FibreMaterial::sigma_a_from(const glm::vec3& albedo) const {
                                           : sigma_a_from_albedo(albedo, params_.beta_n);
 }
 
-HairParams FibreMaterial::at(const glm::vec3& p, float coverage) const {
+glm::vec3 photo_albedo_to_fibre(const glm::vec3& area_albedo, float coverage, int layers) {
+  const glm::vec3 a = glm::clamp(area_albedo, glm::vec3(0.0f), glm::vec3(1.0f));
+  // Each of the `layers` ribbons over the point returns its share t of the stack's
+  // round trip, t^layers = A; within a ribbon a fraction `coverage` is fibre
+  // (albedo f) and the rest passes the light, t = 1 - coverage (1 - f).
+  const glm::vec3 t = layers > 1 ? glm::pow(a, glm::vec3(1.0f / float(layers))) : a;
+  if (!(coverage > 0 && coverage < 1)) return t;
+  return glm::vec3(1.0f) - (glm::vec3(1.0f) - t) / coverage;
+}
+
+void FibreMaterial::set_card(const glm::vec3& card, const CardResponse& response) {
+  card_ = card;
+  card_response_ = response;
+}
+
+HairParams FibreMaterial::at(const glm::vec3& p, float coverage, int layers) const {
   HairParams hp = params_;
-  if (albedo_ && albedo_->textured() && mapping_ == AlbedoMapping::Layer && coverage > 0 && coverage < 1) {
-    const glm::vec3 a = glm::clamp(albedo_->at({p.x, p.y}), glm::vec3(0.0f), glm::vec3(1.0f));
-    hp.sigma_a = sigma_a_from(glm::vec3(1.0f) - (glm::vec3(1.0f) - a) / coverage);
+  if (albedo_ && albedo_->textured() && mapping_ == AlbedoMapping::Layer) {
+    glm::vec3 a = albedo_->at({p.x, p.y});
+    if (card_) a = albedo_over_card(a, *card_, card_response_);
+    hp.sigma_a = sigma_a_from(photo_albedo_to_fibre(a, coverage, layers));
     return hp;
   }
   hp.sigma_a = albedo_ && albedo_->textured() ? sigma_a_from(albedo_->at({p.x, p.y})) : constant_sigma_a_;

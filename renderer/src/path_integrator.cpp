@@ -290,7 +290,7 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
     } else if (hit.kind == HitKind::Backdrop) {
       bsdf = &diffuse.emplace(safe_normalize(hit.ng), wo, scene_.options().backdrop.albedo);
     } else {
-      bsdf = &fibre.emplace(fibre_frame_at(hit, wo), material_.at(hit.p, scene_.structure_coverage(hit)), wo);
+      bsdf = &fibre.emplace(fibre_frame_at(hit, wo), material_.at(hit.p, scene_.structure_coverage(hit), scene_.ribbon_layers(hit)), wo);
     }
 
     // Next-event estimation (settings_.light_pick): one light chosen uniformly or

@@ -67,6 +67,7 @@ Scene::Scene(const Feather& feather, const SceneOptions& options)
   culled_ = std::size_t(std::count(keep_.begin(), keep_.end(), 0));
   g_culled += std::int64_t(culled_);
 
+  if (!feather_.albedo.texture.empty()) ribbon_layers_ = RibbonLayers(feather_);
   if (options_.mode == ShadingMode::Substructure) build_substructure("--shading substructure");
   if (options_.mode == ShadingMode::Farfield) build_farfield();
 

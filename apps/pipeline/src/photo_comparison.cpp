@@ -91,6 +91,9 @@ PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, con
   // Expose like the photo: the card (its albedo proportional to the photo's
   // background) develops to the background's own level, so to its colour.
   view.card_level = luminance(bg);
+  // On a light background the albedo texture is relative to the paper, which the
+  // card stands for: the vane must look that many times the card.
+  if (layout.background == "light") view.photo_card = so.backdrop.albedo;
   c.panels.push_back({std::move(photo_panel), "photo"});
   for (Panel& p : render_both_modes(feather, so, rig, view)) c.panels.push_back(std::move(p));
   c.regions = crop_regions(picked, c.crop);

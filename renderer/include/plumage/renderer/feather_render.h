@@ -39,6 +39,9 @@ struct ViewSpec {
   HairParams hair;               // sigma_a comes from the feather's albedo ...
   std::optional<glm::vec3> sigma_a;  // ... unless it is given here
   std::filesystem::path base_dir = ".";  // the curve file's folder (albedo texture paths)
+  // Set: the albedo texture is a photo's on a light background, relative to a card
+  // of this albedo, the backdrop the feather lies on (FibreMaterial::set_card).
+  std::optional<glm::vec3> photo_card;
   int threads = 0;
   bool progress = false;
   SampleAllocation allocation = RenderSettings{}.allocation;
@@ -57,7 +60,8 @@ LightSet view_lights(const Bounds3f& feather_bounds, const DomeRig& rig, const V
 // absorption given there, or else from the feather's albedo (a texture resolved
 // against view.base_dir). Throws plumage::Error for unusable hair parameters or an
 // unreadable texture.
-FibreMaterial view_material(const Feather& feather, const ViewSpec& view);
+// `mode` picks the card response (card_response.h) when view.photo_card is set.
+FibreMaterial view_material(const Feather& feather, const ViewSpec& view, ShadingMode mode = ShadingMode::Hair);
 
 // Renders `scene` under `rig` as `view` says and returns the image scaled by
 // 2^exposure. Throws plumage::Error for bad settings (see render(), Camera).

@@ -10,6 +10,7 @@
 
 #include "plumage/common/feather.h"
 #include "plumage/common/image.h"
+#include "plumage/renderer/card_response.h"
 #include "plumage/renderer/hair_bcsdf.h"
 
 namespace plumage {
@@ -38,6 +39,14 @@ enum class AlbedoMapping {
   Chiang2016,  // the albedo of a dense mass of hair under multiple scattering (Chiang et al. 2016 eq. 9)
 };
 
+// The fibre albedo f that makes a point of a vane `layers` ribbons deep, each
+// ribbon a fraction `coverage` fibre and the rest open, return the area albedo A
+// measured on a photo: each ribbon's round trip t = 1 - coverage (1 - f), and
+// t^layers = A (docs/hair-bcsdf.md, "A photo's albedo over overlapping ribbons").
+// A is clamped to [0, 1]; the result may be <= 0 where open gaps alone are
+// brighter than A (sigma_a_from_* clamp it to their least albedo).
+glm::vec3 photo_albedo_to_fibre(const glm::vec3& area_albedo, float coverage, int layers);
+
 class FibreMaterial {
  public:
   // Absorption from the albedo map.
@@ -45,13 +54,20 @@ class FibreMaterial {
   // Absorption fixed to params.sigma_a everywhere.
   explicit FibreMaterial(const HairParams& params);
 
-  // The fibre's parameters at p. `coverage` < 1: the fibre is one of structures
-  // that cover only that fraction of the area the albedo was measured over (the
-  // rest shows the card). A texture (taken from a photo) is such an area mean, so
-  // with AlbedoMapping::Layer the fibre takes the albedo 1 - (1 - A) / coverage,
-  // which makes the area's mean come out as A. A constant albedo (a preset's) is
-  // the fibres' own colour and is used as it is.
-  HairParams at(const glm::vec3& p, float coverage = 1.0f) const;
+  // The fibre's parameters at p. A texture (taken from a photo) is an area mean
+  // over a vane that may be several ribbons deep and whose ribbons may be partly
+  // open, so with AlbedoMapping::Layer the fibre takes photo_albedo_to_fibre(A,
+  // coverage, layers): `coverage`, the fraction of a ribbon that its rami and
+  // barbules cover (1 in hair mode), and `layers`, how many ribbons lie over p
+  // (Scene::ribbon_layers). Then the stack over p returns A. A constant albedo (a
+  // preset's) is the fibres' own colour and is used as it is.
+  HairParams at(const glm::vec3& p, float coverage = 1.0f, int layers = 1) const;
+
+  // The texture is a photo's on a light background, relative to the card the
+  // feather lies on in the render (albedo `card`): before the mapping, its albedo
+  // becomes albedo_over_card(A, card, response), so the vane looks A times that
+  // card although part of its light never reaches the card (card_response.h).
+  void set_card(const glm::vec3& card, const CardResponse& response);
 
  private:
   glm::vec3 sigma_a_from(const glm::vec3& albedo) const;
@@ -60,6 +76,8 @@ class FibreMaterial {
   std::optional<AlbedoMap> albedo_;
   AlbedoMapping mapping_ = AlbedoMapping::Layer;
   glm::vec3 constant_sigma_a_;
+  std::optional<glm::vec3> card_;
+  CardResponse card_response_;
 };
 
 }  // namespace plumage

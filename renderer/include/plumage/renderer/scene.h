@@ -25,6 +25,7 @@
 #include "plumage/renderer/explicit_geometry.h"
 #include "plumage/renderer/farfield.h"
 #include "plumage/renderer/ray.h"
+#include "plumage/renderer/ribbon_layers.h"
 #include "plumage/renderer/shading_mode.h"
 #include "plumage/renderer/substructure.h"
 #include "plumage/renderer/surface_hit.h"
@@ -84,6 +85,10 @@ class Scene {
   // (BarbSubstructure::covered_fraction), the same in substructure and explicit
   // mode; 1 in hair mode.
   float structure_coverage(const SurfaceHit& hit) const;
+  // A barb hit: how many barb ribbons lie over its point seen from above
+  // (RibbonLayers), in every mode; 1 for other hits and for a feather whose albedo
+  // is not a texture (the map is only built for one).
+  int ribbon_layers(const SurfaceHit& hit) const;
   const Feather& feather() const { return feather_; }
   const SceneOptions& options() const { return options_; }
   // Bounds of the feather's curves including radii (the backdrop is left out).
@@ -152,6 +157,7 @@ class Scene {
   std::vector<glm::vec3> barb_normals_;
   std::vector<ExplicitFibre> explicit_fibres_;  // explicit mode; control points live in barbs_
   std::size_t explicit_bytes_ = 0;
+  RibbonLayers ribbon_layers_;
   std::vector<float> explicit_coverage_;  // explicit mode: per feather curve, the ribbon coverage substructure mode gives it
   std::vector<FarfieldGeometry> farfield_geometry_[2];               // farfield mode: left, right, per class
   std::vector<std::shared_ptr<const FarfieldModel>> farfield_T_[2];  // their straight transmittance
