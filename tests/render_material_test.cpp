@@ -210,10 +210,12 @@ TEST(RenderMaterial, PhotoAlbedoMappingInvertsTheStackOfRibbons) {
 TEST(RenderMaterial, ClosedVaneOverACardShowsThePhotoAlbedo) {
   // The area mean over a closed vane one or two ribbons deep is the texture's
   // albedo. Substructure mode: a light (photo-pink) albedo within 5 % per channel
-  // (measured at most 2.7 %), a dark one within 0.07 absolute (measured at most
-  // 0.063): the mapping leaves out the fibres' surface reflection (the R lobe,
-  // Fresnel 4.6 % at normal incidence for eta 1.55, over a card of albedo 0.8:
-  // about +0.06), which only a dark albedo notices. Hair mode at the photo
+  // (measured at most 2.7 %), a dark one within 0.08 absolute (measured at most
+  // 0.071 with BCSDF sampling alone under the constant sky, 0.063 with light
+  // sampling as well: the same mean, other noise): without ViewSpec::photo_card the
+  // mapping leaves out what the vane sends back without reaching the card (the R
+  // lobe, card_response.h: reflect/c + leak ≈ 0.05 over a card of albedo 0.8),
+  // which only a dark albedo notices. Hair mode at the photo
   // feathers' overlap 1.3: within 10 % (measured at most 7.1 % darker: its
   // ray-facing ribbons darken a stack; docs/hair-bcsdf.md). Without dividing the albedo among the
   // layers the two-deep vane's pink green comes out at about 0.32 instead of 0.53.
@@ -223,7 +225,7 @@ TEST(RenderMaterial, ClosedVaneOverACardShowsThePhotoAlbedo) {
     const glm::vec3 dark = closed_vane_over_card(ShadingMode::Substructure, brown, overlap);
     for (int c = 0; c < 3; ++c) {
       EXPECT_NEAR(light[c], pink[c], 0.05f * pink[c]) << "overlap " << overlap << ", channel " << c;
-      EXPECT_NEAR(dark[c], brown[c], 0.07f) << "overlap " << overlap << ", channel " << c;
+      EXPECT_NEAR(dark[c], brown[c], 0.08f) << "overlap " << overlap << ", channel " << c;
     }
   }
   const glm::vec3 hair = closed_vane_over_card(ShadingMode::Hair, pink, 1.3f);
@@ -253,6 +255,12 @@ TEST(RenderMaterial, CardResponseModelsAClosedVane) {
   const glm::vec3 odd = albedo_over_card(glm::vec3(std::nanf(""), 50.0f, -1.0f), glm::vec3(0.0f, std::nanf(""), 1.0f), r);
   for (int i = 0; i < 3; ++i) EXPECT_TRUE(odd[i] >= 0.0f && odd[i] <= 1.0f) << i;
   EXPECT_NEAR(albedo_over_card(glm::vec3(0.5f), glm::vec3(0.9f), r).x, 0.5f, 0.06f);
+  // The hue stays: a dark brown whose blue alone lies under what black fibres show
+  // over a grey card keeps its channel ratios (per channel it would turn yellow).
+  const glm::vec3 brown(0.30f, 0.2f, 0.1f), out = albedo_over_card(brown, glm::vec3(0.25f), r);
+  EXPECT_GT(out.z, 0.0f);
+  EXPECT_NEAR(out.x / out.z, brown.x / brown.z, 1e-4f);
+  EXPECT_NEAR(out.y / out.z, brown.y / brown.z, 1e-4f);
 }
 
 TEST(RenderMaterial, RibbonLayersCountTheBarbsOverAPoint) {

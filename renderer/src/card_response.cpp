@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "plumage/common/image.h"
+
 namespace plumage {
 
 CardResponse card_response(ShadingMode mode) {
@@ -14,14 +16,18 @@ CardResponse card_response(ShadingMode mode) {
 }
 
 glm::vec3 albedo_over_card(const glm::vec3& seen, const glm::vec3& card, const CardResponse& r) {
-  glm::vec3 a;
+  // Inverted on the luminance and applied to every channel as one factor: per
+  // channel, a dark texel whose blue lies under what black fibres show but whose
+  // red does not would turn a brown vane yellow.
+  glm::vec3 s, c;
   for (int i = 0; i < 3; ++i) {
-    const float c = std::max(std::isfinite(card[i]) ? card[i] : 1.0f, 1e-3f);
-    const float s = std::isfinite(seen[i]) ? seen[i] : 0.0f;
-    const float v = (s - r.reflect / c - r.leak) / (r.scatter / c + r.through);
-    a[i] = std::clamp(v, 0.0f, 1.0f);
+    s[i] = std::isfinite(seen[i]) ? std::max(seen[i], 0.0f) : 0.0f;
+    c[i] = std::max(std::isfinite(card[i]) ? card[i] : 1.0f, 1e-3f);
   }
-  return a;
+  const float ls = luminance(s), lc = std::max(luminance(c), 1e-3f);
+  if (!(ls > 0)) return glm::vec3(0.0f);
+  const float a = std::max((ls - r.reflect / lc - r.leak) / (r.scatter / lc + r.through), 0.0f);
+  return glm::clamp(s * (a / ls), glm::vec3(0.0f), glm::vec3(1.0f));
 }
 
 }  // namespace plumage

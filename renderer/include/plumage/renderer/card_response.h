@@ -32,10 +32,11 @@ struct CardResponse {
 // Substructure's (their barbules lie in the vane as its do).
 CardResponse card_response(ShadingMode mode);
 
-// The mapping's input albedo A that makes such a vane over a card of albedo `card`
-// look `seen` times the card, per channel: A = (seen - reflect/c - leak) /
-// (scatter/c + through), clamped to [0, 1] (a seen below what black fibres show
-// gives 0). `card` is clamped to at least 1e-3; non-finite `seen` gives 0.
+// The mapping's input albedo that makes such a vane over a card of albedo `card`
+// look `seen` times the card: on the luminances, A = (seen - reflect/c - leak) /
+// (scatter/c + through), at least 0 (a seen below what black fibres show gives
+// black), and `seen` scaled by A / its luminance so that the hue stays; clamped to
+// [0, 1]. `card` is clamped to at least 1e-3; non-finite channels count as 0.
 glm::vec3 albedo_over_card(const glm::vec3& seen, const glm::vec3& card, const CardResponse& r);
 
 }  // namespace plumage
