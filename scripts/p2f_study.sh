@@ -27,7 +27,7 @@ cases=(
   "blue-jay-feather-sheet.jpg 9 top tail feather, lying across"
   "blue-jay-feather-sheet.jpg 12 small body feather"
   "blue-jay-feather-sheet.jpg 41 tail feather, upright"
-  "european-goldfinch-feather-sheet.jpg 17 single feather from the bottom row"
+  "european-goldfinch-feather-sheet.jpg 19 single feather at the right of the bottom row"
   "european-robin-feather-sheet.jpg 14 upright body feather"
   "european-robin-feather-sheet.jpg 40 upright body feather"
   "peregrine-falcon-feather-sheet.jpg 13 largest on the sheet"
