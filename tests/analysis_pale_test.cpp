@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <numbers>
 #include <random>
 #include <unistd.h>
 
@@ -54,8 +55,8 @@ struct UprightFeather {
       c = pale ? glm::vec3(0.82f, 0.80f, 0.76f) : rachis;
       return true;
     }
-    const double phase = (s - std::fabs(d) / std::tan(40.0 * 3.14159265 / 180.0)) / 7.0;
-    const float shade = float(0.85 + 0.15 * std::cos(2 * 3.14159265 * phase));
+    const double phase = (s - std::fabs(d) / std::tan(40.0 * std::numbers::pi / 180.0)) / 7.0;
+    const float shade = float(0.85 + 0.15 * std::cos(2 * std::numbers::pi * phase));
     c = (pale ? white : dark) * (pale ? 0.5f + 0.5f * shade : shade);
     return true;
   }

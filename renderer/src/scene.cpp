@@ -144,4 +144,8 @@ const Scene::CurveGeometry* Scene::curve_geometry(std::uint32_t geom) const {
 
 void* Scene::embree_scene() const { return rtc_->scene; }
 
+int Scene::ribbon_layers(const SurfaceHit& hit) const {
+  return hit.kind == HitKind::Barb ? ribbon_layers_.at({hit.p.x, hit.p.y}) : 1;
+}
+
 }  // namespace plumage

@@ -134,10 +134,6 @@ float Scene::structure_coverage(const SurfaceHit& hit) const {
   return float(rs.vane->covered_fraction(rs.length));
 }
 
-int Scene::ribbon_layers(const SurfaceHit& hit) const {
-  return hit.kind == HitKind::Barb ? ribbon_layers_.at({hit.p.x, hit.p.y}) : 1;
-}
-
 StructureSample Scene::structure_at(const SurfaceHit& hit) const {
   // Proof that hair mode never reaches substructure code (skip_work_test).
   ++g_structure_lookups;
