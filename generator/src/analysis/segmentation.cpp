@@ -346,10 +346,10 @@ cv::Mat label_with_pale_parts(const cv::Mat& bgr, cv::Mat& bin, double sigma, co
       card_sigma = 1.4826 * *mid;
     }
     level = std::max(kPaleLevels, 4.0 * card_sigma);
-    pale = (lighter > level) & (den > 1e-4);
-    not_card = bin | (lighter > 0.5 * level);
-    cv::morphologyEx(pale, pale, cv::MORPH_OPEN, open_k);
+    if (round + 1 < kPaleRounds) not_card = bin | (lighter > 0.5 * level);
   }
+  pale = (lighter > level) & (den > 1e-4);
+  cv::morphologyEx(pale, pale, cv::MORPH_OPEN, open_k);
   // A scan's edge has strips lighter and darker than the card (the scanner's lid
   // and glass): no pale part is looked for within kPaleFrame of the short side
   // of the photo's border.
@@ -535,6 +535,7 @@ std::vector<std::vector<cv::Point>> label_contours(const cv::Mat& labels, const 
     }
   }
   std::vector<std::vector<cv::Point>> out;
+  const cv::Mat disc = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * kBridge + 1, 2 * kBridge + 1));
   for (int k = 1; k < n; ++k) {
     if (!seen[k]) continue;
     // A pale part joined to its feather across a few pixels of soft edge is
@@ -543,14 +544,18 @@ std::vector<std::vector<cv::Point>> label_contours(const cv::Mat& labels, const 
     const cv::Rect roi =
         cv::Rect(box[k].x - pad, box[k].y - pad, box[k].width + 2 * pad, box[k].height + 2 * pad) &
         cv::Rect(0, 0, labels.cols, labels.rows);
-    const cv::Mat own = labels(roi) == k;
-    cv::Mat mask, near_pale;
-    const cv::Mat disc = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * pad + 1, 2 * pad + 1));
-    cv::morphologyEx(own, mask, cv::MORPH_CLOSE, disc, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
-    // Only around its pale parts: elsewhere the outline stays as found.
-    cv::dilate(own & pale(roi), near_pale, disc);
-    mask &= near_pale;
-    mask |= own;  // the closing never takes a pixel away, even at the photo's edge
+    const cv::Mat own = labels(roi) == k, own_pale = own & pale(roi);
+    // Only around its pale parts (a label with none keeps its outline as found).
+    cv::Mat mask;
+    if (cv::countNonZero(own_pale) == 0) {
+      mask = own;
+    } else {
+      cv::Mat near_pale;
+      cv::morphologyEx(own, mask, cv::MORPH_CLOSE, disc, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+      cv::dilate(own_pale, near_pale, disc);
+      mask &= near_pale;
+      mask |= own;  // the closing never takes a pixel away, even at the photo's edge
+    }
     std::vector<cv::Point> c = largest_contour(mask, roi.tl());
     if (!c.empty()) out.push_back(std::move(c));
   }
