@@ -205,6 +205,8 @@ std::vector<Component> separate(const Component& blob, Cores& cores, const cv::S
     for (int i = 1; i <= cores.n; ++i)
       if (area[std::size_t(i)] >= std::max(min_area, kMinPiece * largest)) id[std::size_t(i)] = ++kept;
     if (kept == cores.n) break;
+    // No piece the size of a feather: small feathers together, reported as such.
+    if (kept == 0) return {};
     // Lobes: grow again from the other cores only.
     cores.n = kept;
     for (int& l : label) l = id[std::size_t(l)];
