@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The photo study (issue 11): `plumage analyze` and `plumage generate` on every photo
 # in ../shared/photos; writes the overlays to docs/images/study-<photo>.jpg and a
-# table (feathers by eye, analysed, skipped and why, barbs per side, shaft length,
+# table (feathers by eye, regions found and expected from the named groups, analysed,
+# skipped and why, barbs per side, shaft length,
 # warnings) into docs/analysis.md between the photo-study markers. The counts by eye
 # are data/photo-study/counts.json (tests/photo_study_test.cpp holds analysis to them).
 #   scripts/photo_study.sh            (needs a built build/plumage)
@@ -41,8 +42,11 @@ python3 - "$out" "$photos" <<'PY'
 import sys, os, json, glob, re, statistics
 out, photos = sys.argv[1:3]
 counts = json.load(open("data/photo-study/counts.json"))["photos"]
-rows = ["| photo | by eye | analysed | skipped (id: why) | barbs per side, median (range) | shaft length mm (range) | warnings | analyze exit, wall s |",
-        "|---|---|---|---|---|---|---|---|"]
+def expected(c):
+    # counts.json's groups: k feathers making r regions each
+    return c["feathers"] + sum(g["regions"] - g["feathers"] for g in c.get("groups", [])) if c.get("exact") else None
+rows = ["| photo | by eye | regions (expected) | analysed | skipped (id: why) | barbs per side, median (range) | shaft length mm (range) | warnings | analyze exit, wall s |",
+        "|---|---|---|---|---|---|---|---|---|"]
 for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
     stem = os.path.basename(rc_file)[:-3]
     name = next((n for n in counts if os.path.splitext(n)[0] == stem), stem)
@@ -51,7 +55,7 @@ for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
     eye_text = str(eye) if eye else "not counted"
     if rc != "0":
         err = open(os.path.join(out, stem + ".analyze.txt")).read().strip().splitlines()
-        rows.append(f"| {name} | {eye_text} | — | — | — | — | {err[-1] if err else ''} | {rc}, {float(wall):.2f} |")
+        rows.append(f"| {name} | {eye_text} | — | — | — | — | — | {err[-1] if err else ''} | {rc}, {float(wall):.2f} |")
         continue
     L = json.load(open(os.path.join(out, stem + ".json")))
     skipped = ", ".join(f"{s['id']}: {'border' if s['reason'] == 'touches_border' else 'touching'}" for s in L.get("skipped", []))
@@ -75,7 +79,10 @@ for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
     b = f"{statistics.median(barbs):.0f} ({min(barbs)}–{max(barbs)})" if barbs else "—"
     l = f"{min(lengths):.0f}–{max(lengths):.0f}" if lengths else "—"
     warn = "; ".join(f"{k} ×{v}" for k, v in sorted(kinds.items(), key=lambda kv: -kv[1]))
-    rows.append(f"| {name} | {eye_text} | {len(L['feathers'])} | {skipped or '—'} | {b} | {l} | {warn or '—'} | {rc}, {float(wall):.2f} |")
+    exp = expected(counts.get(name, {}))
+    found = len(L["feathers"]) + len(L.get("skipped", []))
+    regions = f"{found} ({exp})" if exp is not None else str(found)
+    rows.append(f"| {name} | {eye_text} | {regions} | {len(L['feathers'])} | {skipped or '—'} | {b} | {l} | {warn or '—'} | {rc}, {float(wall):.2f} |")
 open(os.path.join(out, "photo-study-table.md"), "w").write("\n".join(rows) + "\n")
 PY
 python3 scripts/doc_table.py docs/analysis.md photo-study "$out/photo-study-table.md"

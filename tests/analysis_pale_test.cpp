@@ -210,3 +210,32 @@ TEST(AnalysisPale, NoPalePartsOnPlainCardsWithNoise) {
   }
   fs::remove_all(dir);
 }
+
+// Card a little lighter than the card around it (as card beside translucent
+// grey fluff reads, the fluff darkening the card's average near it) is no
+// feather: a patch 20 grey levels above a mid-grey card, where the level is
+// 15, is pale, no feather lies along it, and it is nowhere white (twice the
+// level); the dark feather beside it is the only feather. The same patch
+// white (80 levels above) is a feather of its own.
+TEST(AnalysisPale, CardJustLighterThanTheCardIsNoFeather) {
+  const fs::path dir = pale_dir("patch");
+  UprightFeather dark;
+  dark.cx = 220;
+  for (const float lift : {20.f / 255.f, 80.f / 255.f}) {
+    const Paint patch = [lift](double x, double y, glm::vec3& c) {
+      const double dx = (x - 540) / 70, dy = (y - 380) / 45;
+      if (dx * dx + dy * dy > 1) return false;
+      c += glm::vec3(lift);
+      return true;
+    };
+    const fs::path photo = dir / ("patch" + std::to_string(int(lift * 255)) + ".png");
+    write_image(photo, draw_card(760, 700, 0.62f, 0.0f, 0.015f, {paint_of(dark), patch}));
+    const PhotoAnalysis A = analyze_photo(photo, AnalyzeOptions{});
+    const std::size_t regions = A.layout.feathers.size() + A.layout.skipped.size();
+    EXPECT_EQ(regions, lift < 0.2f ? 1u : 2u) << "patch " << lift * 255 << " levels lighter";
+    const FeatherLayout* D = nearest(A.layout, {dark.cx, dark.calamus_y - 0.5 * dark.length});
+    ASSERT_NE(D, nullptr);
+    EXPECT_LT(glm::length(shaft_end(*D, 0) - dark.calamus()), 0.05 * dark.length);
+  }
+  fs::remove_all(dir);
+}

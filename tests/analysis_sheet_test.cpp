@@ -276,3 +276,119 @@ TEST(AnalysisSheet, OneFeatherIsNeverSplit) {
       fs::remove_all(dir);
     }
 }
+
+namespace {
+
+// All the feathers on one light card: the darkest of their pictures.
+Image on_one_card(const std::vector<SyntheticFeather>& all) {
+  Image A = all.front().draw();
+  for (std::size_t k = 1; k < all.size(); ++k) {
+    const Image B = all[k].draw();
+    for (std::size_t i = 0; i < A.pixels.size(); ++i) A.pixels[i] = std::min(A.pixels[i], B.pixels[i]);
+  }
+  return A;
+}
+
+// Where a feather's vane edge is, `along` px from its calamus, on its `side`.
+glm::dvec2 vane_edge(const SyntheticFeather& f, double along, int side) {
+  return f.calamus + f.dir() * along + f.right() * (side * f.half_width(along, side));
+}
+
+}  // namespace
+
+// Three feathers, the middle one touched on either side by the tip of another
+// (two necks, far apart along it): each neck is judged on its own pair, so all
+// three are cut apart. The two cuts together span most of the middle feather.
+TEST(AnalysisSheet, ThreeFeathersTouchingAtTwoPointsAreSeparated) {
+  const fs::path dir = sheet_dir("three");
+  SyntheticFeather mid, top, bottom;
+  mid.calamus = {80, 350};
+  mid.dir_deg = 0;
+  mid.length = 560;
+  mid.w_left = mid.w_right = 45;
+  for (SyntheticFeather* f : {&top, &bottom}) {
+    f->length = 260;
+    f->w_left = f->w_right = 40;
+  }
+  // The tips lie on the middle feather's edges, above at 220 px along it,
+  // below at 400.
+  const glm::dvec2 above = vane_edge(mid, 220, -1), below = vane_edge(mid, 400, 1);
+  ASSERT_LT(above.y, mid.calamus.y);
+  top.dir_deg = 90, top.calamus = above - top.dir() * top.length, top.seed = 3;
+  bottom.dir_deg = -90, bottom.calamus = below - bottom.dir() * bottom.length, bottom.seed = 4;
+  write_image(dir / "three.png", on_one_card({mid, top, bottom}));
+  const PhotoAnalysis A = analyze_photo(dir / "three.png", AnalyzeOptions{});
+  ASSERT_EQ(A.layout.feathers.size(), 3u);
+  EXPECT_TRUE(A.layout.skipped.empty());
+  for (const SyntheticFeather* t : {&mid, &top, &bottom}) {
+    const auto [c, tip] = matching_shaft_ends(A.layout, *t);
+    EXPECT_LT(glm::length(c - t->calamus), 0.1 * t->length) << "feather at " << t->calamus.x;
+    EXPECT_LT(glm::length(tip - t->tip()), 0.1 * t->length) << "feather at " << t->calamus.x;
+  }
+  EXPECT_EQ(std::count_if(A.warnings.begin(), A.warnings.end(),
+                          [](const std::string& w) { return w.find("cut out of 3 touching") != std::string::npos; }),
+            3);
+  fs::remove_all(dir);
+}
+
+// A long narrow feather with a round tuft at its tip, a little wider than the
+// vane: the deepest part of the blob, so its core is a piece of its own (0.6
+// of the largest distance to the background is 12 px, the vane's half-width
+// 14 px), but the tuft takes about a tenth of the blob, under what a second
+// feather must (15 % of the largest piece): a lobe of one feather, analysed,
+// not reported as touching.
+TEST(AnalysisSheet, AFeatherWithALobeIsOneFeather) {
+  const fs::path dir = sheet_dir("lobe");
+  SyntheticFeather f;
+  f.calamus = {100, 350};
+  f.dir_deg = 0;
+  f.length = 700;
+  f.w_left = f.w_right = 14;
+  Image img = f.draw();
+  const double radius = 20;
+  const glm::dvec2 centre = f.tip();
+  const glm::vec3 vane(srgb_to_linear(0.80f), srgb_to_linear(0.50f), srgb_to_linear(0.48f));
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      if (glm::length(glm::dvec2(x + 0.5, y + 0.5) - centre) <= radius) img.set_rgb(x, y, vane);
+  write_image(dir / "lobe.png", img);
+  const PhotoAnalysis A = analyze_photo(dir / "lobe.png", AnalyzeOptions{});
+  ASSERT_EQ(A.layout.feathers.size(), 1u);
+  EXPECT_TRUE(A.layout.skipped.empty());
+  fs::remove_all(dir);
+}
+
+// Small feathers in a row beside a larger one stand like a word (short, about
+// its height, each within 1.5 heights of the next), but their vanes are not
+// pen strokes: found. A line of letters drawn 5 px thick under them is text.
+TEST(AnalysisSheet, SmallFeathersInARowAreNotText) {
+  const fs::path dir = sheet_dir("row");
+  SyntheticFeather big, a, b;
+  big.calamus = {40, 330}, big.dir_deg = 0, big.length = 430, big.w_left = big.w_right = 30;
+  a.calamus = {500, 330}, a.dir_deg = 0, a.length = 130, a.w_left = a.w_right = 16, a.seed = 3;
+  b.calamus = {660, 330}, b.dir_deg = 0, b.length = 120, b.w_left = b.w_right = 15, b.seed = 4;
+  Image img = on_one_card({big, a, b});
+  // Five rings 28 px across and a bar as tall ("ooooo l"), dark ink.
+  const float ink = srgb_to_linear(0.12f);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const glm::dvec2 p(x + 0.5, y + 0.5);
+      bool on = std::fabs(p.x - 300) <= 2.5 && std::fabs(p.y - 600) <= 14;
+      for (int k = 0; k < 5; ++k) {
+        const double r = glm::length(p - glm::dvec2(100 + 40 * k, 600));
+        on = on || (r <= 14 && r >= 9);
+      }
+      if (on) img.set_rgb(x, y, glm::vec3(ink));
+    }
+  write_image(dir / "row.png", img);
+  const PhotoAnalysis A = analyze_photo(dir / "row.png", AnalyzeOptions{});
+  EXPECT_EQ(A.layout.feathers.size(), 3u);
+  EXPECT_TRUE(A.layout.skipped.empty());
+  for (const SyntheticFeather* t : {&a, &b}) {
+    const auto [c, tip] = matching_shaft_ends(A.layout, *t);
+    EXPECT_LT(glm::length(tip - t->tip()), 0.15 * t->length) << "feather at " << t->calamus.x;
+  }
+  for (const FeatherLayout& f : A.layout.feathers)
+    for (const glm::dvec2& p : f.outline_px) EXPECT_LT(p.y, 560) << "feather " << f.id << " reaches the letters";
+  fs::remove_all(dir);
+}

@@ -171,49 +171,75 @@ void flood_from_cores(const cv::Mat& mask, const cv::Mat& dt, cv::Mat& markers) 
 // Touching feathers, told apart: the blob's core pieces (one per feather) grow
 // back over the blob by a watershed on the distance transform, so each piece
 // takes the pixels nearer its own ridge and the cut runs along the neck where
-// two feathers meet. The cut is kept only where the feathers barely touch: no
-// longer than kMaxCut of the narrowest piece's width (twice its largest
-// inscribed radius). Feathers that overlap, or lie quill on tip, meet over a
-// longer line, and a watershed there hands one feather's quill or tip to the
-// other (a feather whose quill is cut off is then read backwards), so they
-// stay one region, reported as such. Every piece must also be a feather by
-// itself: at least `min_area` and kMinPiece of the largest, and filling at least
-// kMinPieceSolidity of its hull. Otherwise the result is empty. `cores` is the
-// blob's (find_cores); its markers are flooded in place.
+// two feathers meet. A piece that grows to less than a feather (under `min_area`
+// or kMinPiece of the largest piece) is a lobe of its neighbour's vane, not a
+// feather: its core is dropped and the rest grow again; when one piece is left,
+// the blob is one feather (`cores.n` becomes 1). Each cut, between two pieces
+// that meet, is kept only where they barely touch: no longer than kMaxCut of
+// the narrower one's width (twice its largest inscribed radius). Feathers that
+// overlap, or lie quill on tip, meet over a longer line, and a watershed there
+// hands one feather's quill or tip to the other (a feather whose quill is cut
+// off is then read backwards), so they stay one region, reported as such.
+// Every piece must also fill at least kMinPieceSolidity of its hull, as a
+// feather does. Otherwise the result is empty. `cores` is the blob's
+// (find_cores); its markers are flooded in place.
 constexpr double kMinPieceSolidity = 0.6, kMaxCut = 0.5;
 std::vector<Component> separate(const Component& blob, Cores& cores, const cv::Size& image, double min_area) {
   const cv::Mat &padded = cores.mask, &dt = cores.dt;
   cv::Mat& markers = cores.markers;
+  if (cores.n < 2) return {};
+  const cv::Mat seeds = markers.clone();
+  std::vector<int> label(std::size_t(cores.n) + 1);  // seed's core -> its piece now (0: dropped)
+  for (std::size_t i = 0; i < label.size(); ++i) label[i] = int(i);
+  std::vector<int> area;
+  for (;;) {
+    flood_from_cores(padded, dt, markers);
+    area.assign(std::size_t(cores.n) + 1, 0);
+    for (int y = 0; y < markers.rows; ++y) {
+      const int* m = markers.ptr<int>(y);
+      for (int x = 0; x < markers.cols; ++x) ++area[std::size_t(std::max(0, m[x]))];
+    }
+    const int largest = *std::max_element(area.begin() + 1, area.end());
+    std::vector<int> id(std::size_t(cores.n) + 1, 0);
+    int kept = 0;
+    for (int i = 1; i <= cores.n; ++i)
+      if (area[std::size_t(i)] >= std::max(min_area, kMinPiece * largest)) id[std::size_t(i)] = ++kept;
+    if (kept == cores.n) break;
+    // No piece the size of a feather: small feathers together, reported as such.
+    if (kept == 0) return {};
+    // Lobes: grow again from the other cores only.
+    cores.n = kept;
+    for (int& l : label) l = id[std::size_t(l)];
+    for (int y = 0; y < markers.rows; ++y) {
+      const int* sd = seeds.ptr<int>(y);
+      int* m = markers.ptr<int>(y);
+      for (int x = 0; x < markers.cols; ++x) m[x] = label[std::size_t(sd[x])];
+    }
+    if (cores.n < 2) return {};
+  }
   const int n = cores.n;
-  if (n < 2) return {};
-  flood_from_cores(padded, dt, markers);
-  // The cut: pixels of one piece with a pixel of another among their 8
-  // neighbours; its length is the longer side of their smallest enclosing box.
-  std::vector<cv::Point> cut_points;
+  // The cuts: pixels of one piece with a pixel of another among their 8
+  // neighbours, per pair of pieces; a cut's length is the longer side of the
+  // smallest box around its pixels.
+  std::vector<std::vector<cv::Point>> cut_points(std::size_t(n * n));
   for (int y = 1; y + 1 < markers.rows; ++y)
     for (int x = 1; x + 1 < markers.cols; ++x) {
       const int here = markers.at<int>(y, x);
       if (here < 1) continue;
-      bool other = false;
+      int other = 0;
       for (int dy = -1; dy <= 1 && !other; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
           const int l = markers.at<int>(y + dy, x + dx);
-          if (l > 0 && l != here) other = true;
+          if (l > 0 && l != here) other = l;
         }
-      if (other) cut_points.emplace_back(x, y);
+      if (other) cut_points[std::size_t((std::min(here, other) - 1) * n + std::max(here, other) - 1)].emplace_back(x, y);
     }
-  double cut = 0;
-  if (!cut_points.empty()) {
-    const cv::Size2f box = cv::minAreaRect(cut_points).size;
-    // Both sides of the cut are counted: half the thickness is one side.
-    cut = std::max(box.width, box.height) + 1.0;
-  }
   std::vector<Component> pieces;
-  double largest = 0, narrowest = 1e300;
+  std::vector<double> width(std::size_t(n), 0);
   for (int i = 1; i <= n; ++i) {
     double widest = 0;
     cv::minMaxLoc(dt, nullptr, &widest, nullptr, nullptr, markers == i);
-    narrowest = std::min(narrowest, 2 * widest);
+    width[std::size_t(i - 1)] = 2 * widest;
     cv::Mat region = (markers == i) & padded;
     const cv::Rect box = cv::boundingRect(region);
     if (box.empty()) return {};
@@ -225,12 +251,19 @@ std::vector<Component> separate(const Component& blob, Cores& cores, const cv::S
     c.area = cv::contourArea(c.contour);
     measure_shape(c, image);
     c.separated_from = n;
-    largest = std::max(largest, c.area);
     pieces.push_back(std::move(c));
   }
-  if (cut > kMaxCut * narrowest) return {};
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j) {
+      const auto& pts = cut_points[std::size_t(i * n + j)];
+      if (pts.empty()) continue;
+      const cv::Size2f box = cv::minAreaRect(pts).size;
+      // Both sides of the cut are counted: half the thickness is one side.
+      const double cut = std::max(box.width, box.height) + 1.0;
+      if (cut > kMaxCut * std::min(width[std::size_t(i)], width[std::size_t(j)])) return {};
+    }
   for (const Component& c : pieces)
-    if (c.area < std::max(min_area, kMinPiece * largest) || c.solidity < kMinPieceSolidity) return {};
+    if (c.solidity < kMinPieceSolidity) return {};
   return pieces;
 }
 
@@ -249,7 +282,7 @@ std::vector<Component> separate(const Component& blob, Cores& cores, const cv::S
 // pixel (0 background), feathers numbered from 1, each label one feather.
 constexpr double kPaleLevels = 15.0, kCardBlur = 0.03;
 constexpr int kPaleRounds = 3, kSoftEdge = 4, kBridge = 8, kCardScale = 8;
-constexpr double kPaleFrame = 0.02, kCardWide = 4.0, kWideWeight = 0.05;
+constexpr double kPaleFrame = 0.02, kCardWide = 4.0, kWideWeight = 0.05, kAloneLevels = 2.0;
 constexpr double kMinContact = 0.5, kMinBaseContact = 0.05, kBaseArea = 0.2, kOwnerArea = 0.25;
 // Cards this light or lighter leave no room for paler parts; dark cards have
 // none lighter than the feather itself (its colour already stands out).
@@ -268,6 +301,7 @@ cv::Mat label_with_pale_parts(const cv::Mat& bgr, cv::Mat& bin, double sigma, co
   const double s = kCardBlur * std::min(bgr.cols, bgr.rows);
   pale = cv::Mat::zeros(bin.size(), CV_8U);
   cv::Mat lighter, card_w, den;
+  double level = kPaleLevels;
   // Not card in the next round: feathers and whatever was lighter than the card
   // by half the level (unopened): a pixel of a white tip that fell just short
   // would otherwise count as card, lift the card around itself and stay out.
@@ -313,11 +347,11 @@ cv::Mat label_with_pale_parts(const cv::Mat& bgr, cv::Mat& bin, double sigma, co
       std::nth_element(spread.begin(), mid, spread.end());
       card_sigma = 1.4826 * *mid;
     }
-    const double level = std::max(kPaleLevels, 4.0 * card_sigma);
-    pale = (lighter > level) & (den > 1e-4);
-    not_card = bin | (lighter > 0.5 * level);
-    cv::morphologyEx(pale, pale, cv::MORPH_OPEN, open_k);
+    level = std::max(kPaleLevels, 4.0 * card_sigma);
+    if (round + 1 < kPaleRounds) not_card = bin | (lighter > 0.5 * level);
   }
+  pale = (lighter > level) & (den > 1e-4);
+  cv::morphologyEx(pale, pale, cv::MORPH_OPEN, open_k);
   // A scan's edge has strips lighter and darker than the card (the scanner's lid
   // and glass): no pale part is looked for within kPaleFrame of the short side
   // of the photo's border.
@@ -459,12 +493,28 @@ cv::Mat label_with_pale_parts(const cv::Mat& bgr, cv::Mat& bin, double sigma, co
   }
   // The soft edge only carried the flood: it is not feather.
   labels.setTo(0, (bin | pale) == 0);
-  // Pale regions no feather reaches (with the specks in them) are feathers of their own.
+  // Pale regions no feather reaches (with the specks in them) are feathers of
+  // their own when they are white somewhere: lighter than the card by
+  // kAloneLevels times the level (white downy feathers: 90-100 grey levels
+  // above it). Card just over the level beside translucent grey fluff, which
+  // darkens the card's average around it, is not (25 levels on the blue-jay
+  // sheet, the level there 15).
   cv::Mat alone = (pale | bin) & (labels == 0), alone_labels;
   const int na = cv::connectedComponents(alone, alone_labels, 8, CV_32S);
   if (na > 1) {
-    alone_labels += n - 1;
-    alone_labels.copyTo(labels, alone);
+    std::vector<float> whitest(std::size_t(na), -1e30f);
+    for (int y = 0; y < alone_labels.rows; ++y) {
+      const int* a = alone_labels.ptr<int>(y);
+      const float* d = lighter.ptr<float>(y);
+      for (int x = 0; x < alone_labels.cols; ++x)
+        if (a[x]) whitest[std::size_t(a[x])] = std::max(whitest[std::size_t(a[x])], d[x]);
+    }
+    for (int y = 0; y < alone_labels.rows; ++y) {
+      const int* a = alone_labels.ptr<int>(y);
+      int* l = labels.ptr<int>(y);
+      for (int x = 0; x < alone_labels.cols; ++x)
+        if (a[x] && whitest[std::size_t(a[x])] >= kAloneLevels * level) l[x] = n - 1 + a[x];
+    }
   }
   return labels;
 }
@@ -487,6 +537,7 @@ std::vector<std::vector<cv::Point>> label_contours(const cv::Mat& labels, const 
     }
   }
   std::vector<std::vector<cv::Point>> out;
+  const cv::Mat disc = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * kBridge + 1, 2 * kBridge + 1));
   for (int k = 1; k < n; ++k) {
     if (!seen[k]) continue;
     // A pale part joined to its feather across a few pixels of soft edge is
@@ -495,19 +546,52 @@ std::vector<std::vector<cv::Point>> label_contours(const cv::Mat& labels, const 
     const cv::Rect roi =
         cv::Rect(box[k].x - pad, box[k].y - pad, box[k].width + 2 * pad, box[k].height + 2 * pad) &
         cv::Rect(0, 0, labels.cols, labels.rows);
-    const cv::Mat own = labels(roi) == k;
-    cv::Mat mask, near_pale;
-    const cv::Mat disc = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * pad + 1, 2 * pad + 1));
-    cv::morphologyEx(own, mask, cv::MORPH_CLOSE, disc, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
-    // Only around its pale parts: elsewhere the outline stays as found.
-    cv::dilate(own & pale(roi), near_pale, disc);
-    mask &= near_pale;
-    mask |= own;  // the closing never takes a pixel away, even at the photo's edge
+    const cv::Mat own = labels(roi) == k, own_pale = own & pale(roi);
+    // Only around its pale parts (a label with none keeps its outline as found).
+    cv::Mat mask;
+    if (cv::countNonZero(own_pale) == 0) {
+      mask = own;
+    } else {
+      cv::Mat near_pale;
+      cv::morphologyEx(own, mask, cv::MORPH_CLOSE, disc, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+      cv::dilate(own_pale, near_pale, disc);
+      mask &= near_pale;
+      mask |= own;  // the closing never takes a pixel away, even at the photo's edge
+    }
     std::vector<cv::Point> c = largest_contour(mask, roi.tl());
     if (!c.empty()) out.push_back(std::move(c));
   }
   return out;
 }
+
+namespace {
+
+// Regions under kMinAreaShare of the photo, and under kMinAreaPx, are specks.
+constexpr double kMinAreaPx = 60.0, kMinAreaShare = 3e-4;
+
+// Writing is drawn in strokes far thinner than the letters are tall: an
+// opening with a disc kStrokeDisc of the mark's height leaves under
+// kStrokeSurvives of its pixels (`found`: the pixels it was outlined from,
+// holes and counters open). Letters on the photos: 0-20 % (print on the
+// spoonbill sheet, handwriting on the robin sheet); small feathers standing in
+// a row like a word (peregrine and robin sheets): 89-97 %. Text lines run across the photo, so the height
+// is the box's, and a letter "l" is as thin across as its stroke.
+constexpr double kStrokeDisc = 0.5, kStrokeSurvives = 0.5;
+bool is_strokes(const cv::Mat& found, const Component& mark) {
+  cv::Mat m = cv::Mat::zeros(mark.bbox.size(), CV_8U);
+  cv::drawContours(m, std::vector<std::vector<cv::Point>>{mark.contour}, 0, cv::Scalar(255), cv::FILLED,
+                   cv::LINE_8, cv::noArray(), 0, -mark.bbox.tl());
+  m &= found(mark.bbox);
+  const int pixels = cv::countNonZero(m);
+  if (pixels == 0) return true;
+  const int d = 2 * int(std::lround(0.5 * kStrokeDisc * mark.bbox.height)) + 1;
+  cv::Mat opened;
+  cv::morphologyEx(m, opened, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(d, d)),
+                   cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  return cv::countNonZero(opened) < kStrokeSurvives * pixels;
+}
+
+}  // namespace
 
 Segmentation segment_feathers(const cv::Mat& bgr) {
   Segmentation seg;
@@ -559,17 +643,22 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   }
 
   const double image_area = double(bgr.total());
-  const double min_area = std::max(150.0, 3e-4 * image_area);
+  // The smallest body feathers found on the peregrine sheet (424 x 600) are
+  // 82-143 px; the floor only matters for photos under 0.2 MP.
+  const double min_area = std::max(kMinAreaPx, kMinAreaShare * image_area);
   // On a mid-grey card, pale parts lighter than the card join their feathers or
   // stand as feathers of their own (label_with_pale_parts).
   const double bg_luma = luma_bgr(bg);
   std::vector<std::vector<cv::Point>> contours;
+  cv::Mat found;  // the pixels the regions were outlined from (holes not filled)
   if (bg_luma >= kPaleCardMin && bg_luma <= kPaleCardMax) {
     cv::Mat pale;
     const cv::Mat labels = label_with_pale_parts(bgr, bin, sigma, open_k, min_area, pale);
-    seg.foreground |= labels > 0;
+    found = labels > 0;
+    seg.foreground |= found;
     contours = label_contours(labels, pale);
   } else {
+    found = bin.clone();
     cv::findContours(bin, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
   }
   std::vector<Component> kept;
@@ -591,11 +680,13 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   }
   // Letters and labels: far smaller than the feathers on the same sheet, and
   // written in lines. A region is text when it is small (under kMinRelativeArea
-  // of the largest) or when it is short (under kTextHeight of the photo's height)
-  // and stands in a line of at least kTextRun marks (any region, however small) of about its height
+  // of the largest) or when it is short (under kTextHeight of the photo's height),
+  // stands in a line of at least kTextRun marks (any region, however small) of about its height
   // (within a factor 2) that overlap it vertically by half the smaller height,
-  // each within 1.5 heights of the next: a title, a word of handwriting. Small feathers on a
-  // sheet are stacked in columns, or are taller than that in rows.
+  // each within 1.5 heights of the next: a title, a word of handwriting, and is
+  // drawn in strokes (is_strokes). Small feathers on a sheet are stacked in
+  // columns, or are taller than that in rows; a row of small feathers beside a
+  // larger one stands like a word, but its vanes are not strokes.
   constexpr double kMinRelativeArea = 0.005, kTextHeight = 0.06;
   constexpr int kTextRun = 3;
   std::vector<char> text(kept.size(), 0);
@@ -623,7 +714,7 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
         }
       }
     }
-    text[i] = run >= kTextRun;
+    text[i] = run >= kTextRun && is_strokes(found, kept[i]);
   }
   for (std::size_t i = 0; i < kept.size(); ++i) {
     Component& comp = kept[i];
@@ -663,6 +754,7 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
     }
     if (comp.cores > 1) {
       std::vector<Component> pieces = separate(comp, cores, bgr.size(), min_area);
+      comp.cores = cores.n;  // lobes of one vane are not feathers
       if (!pieces.empty()) {
         for (Component& c : pieces) seg.feathers.push_back(std::move(c));
         continue;
