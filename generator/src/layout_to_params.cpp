@@ -474,7 +474,7 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
   p.shaft.bend_deg = std::isfinite(turn) ? std::clamp(-turn * 180.0 / kPi, -90.0, 90.0) : 0.0;
   const double r_base = 0.5 * f.shaft_width_mm;
   p.shaft.radius_base = std::isfinite(r_base) && r_base > 1e-3 ? std::min(r_base, 0.02 * L) : 0.004 * L;
-  p.shaft.radius_tip = std::max(1e-4, 0.15 * p.shaft.radius_base);
+  p.shaft.radius_tip = std::max(1e-4, kShaftTipRadiusFraction * p.shaft.radius_base);
   p.barb.radius_root = std::clamp(0.15 * p.shaft.radius_base, 1e-3, 0.2);
   p.barb.radius_tip = 0.4 * p.barb.radius_root;
 
