@@ -46,18 +46,38 @@ struct Along {
   std::size_t i;
 };
 Along project(const Polyline& L, const glm::dvec2& q) {
-  Along best{0, 0, 0};
-  double best_d2 = std::numeric_limits<double>::infinity();
   const std::size_t n = L.p.size() - 1;
-  for (std::size_t i = 0; i < n; ++i) {
+  const auto on_chord = [&](std::size_t i, double* d2) {
     const glm::dvec2 a = L.p[i], ab = L.p[i + 1] - a;
     double t = glm::dot(q - a, ab) / glm::dot(ab, ab);
     if (i > 0) t = std::max(t, 0.0);
     if (i + 1 < n) t = std::min(t, 1.0);
     const glm::dvec2 on = a + t * ab;
-    const double d2 = glm::dot(q - on, q - on);
+    *d2 = glm::dot(q - on, q - on);
+    return t;
+  };
+  // The nearest of every kStride-th chord first, then every chord around it: the
+  // distance along a shaft whose radius of curvature is far above L / kSamples *
+  // kStride has one minimum near a point beside it.
+  constexpr std::size_t kStride = 16;
+  std::size_t coarse = 0;
+  double best_d2 = std::numeric_limits<double>::infinity(), d2 = 0;
+  for (std::size_t i = 0; i < n; i += kStride) {
+    on_chord(i, &d2);
+    if (d2 < best_d2) best_d2 = d2, coarse = i;
+  }
+  if (n - 1 > coarse) {
+    on_chord(n - 1, &d2);
+    if (d2 < best_d2) best_d2 = d2, coarse = n - 1;
+  }
+  Along best{0, 0, 0};
+  best_d2 = std::numeric_limits<double>::infinity();
+  const std::size_t lo = coarse > 2 * kStride ? coarse - 2 * kStride : 0, hi = std::min(n, coarse + 2 * kStride + 1);
+  for (std::size_t i = lo; i < hi; ++i) {
+    const double t = on_chord(i, &d2);
     if (d2 < best_d2) {
       best_d2 = d2;
+      const glm::dvec2 on = L.p[i] + t * (L.p[i + 1] - L.p[i]);
       best = {L.s[i] + t * (L.s[i + 1] - L.s[i]), glm::dot(q - on, lateral(L.tangent(i))), i};
     }
   }
