@@ -26,8 +26,9 @@ constexpr double kAngleLeft = 40.0, kAngleRight = 55.0, kSpacing = 0.8;
 double true_width(double t, double w) { return t < 0.15 ? 0.0 : w * std::pow(std::sin(kPi * (t - 0.15) / 0.85), 0.5); }
 
 // A layout as analysis would report it for a feather with a known shaft (an arc
-// turning by `bend_deg`, chord on +Y) and known vane profiles.
-FeatherLayout known_layout(double bend_deg = 0.0) {
+// turning by `bend_deg`, chord on +Y; or, straight, swinging `wiggle_mm` either way
+// of the chord: x = wiggle sin(2 pi y / L)) and known vane profiles.
+FeatherLayout known_layout(double bend_deg = 0.0, double wiggle_mm = 0.0) {
   FeatherLayout f;
   f.id = 3;
   const int n = 12;
@@ -37,7 +38,7 @@ FeatherLayout known_layout(double bend_deg = 0.0) {
     const double s = double(i - 1) / double(n - 3);  // phantom ends: eval(0), eval(1) at the ends
     // A circular arc whose tangent turns anticlockwise by `turn`, chord on +Y.
     const double a = turn * (s - 0.5);
-    pts.push_back(turn == 0.0 ? glm::dvec2(0.0, kLength * s)
+    pts.push_back(turn == 0.0 ? glm::dvec2(wiggle_mm * std::sin(2 * kPi * s), kLength * s)
                               : glm::dvec2((std::cos(a) - std::cos(0.5 * turn)) * kLength / turn,
                                            (std::sin(a) + std::sin(0.5 * turn)) * kLength / turn));
   }
@@ -156,6 +157,36 @@ TEST(LayoutToParams, BentShaftEndsWhereTheAnalysedShaftEnds) {
       EXPECT_NEAR(glm::length(glm::dvec2(shaft.eval(t)) - f.shaft_mm.eval(t)), 0.0, 0.02 * kLength)
           << "bend " << bend << " t " << t;
   }
+}
+
+TEST(LayoutToParams, ShaftBendingBothWaysIsFollowedAlongItsLength) {
+  // A rachis swinging 2 mm either way of its chord: the builder's arc through both
+  // ends misses it by up to 2 mm; the feather is laid along it (shaft_pose.h), so
+  // each vane stands across the measured shaft as it was measured.
+  const FeatherLayout f = known_layout(0.0, 2.0);
+  const Feather feather = layout_to_feather(f, 1, ".", ".", "wiggle.json");
+  const BSpline3 shaft = spline(*feather.shaft());
+  double worst = 0;
+  for (int i = 0; i <= 100; ++i) {
+    const glm::dvec2 q(shaft.eval(i / 100.0));
+    double best = 1e300;
+    for (int j = 0; j <= 2000; ++j) best = std::min(best, glm::length(q - f.shaft_mm.eval(j / 2000.0)));
+    worst = std::max(worst, best);
+  }
+  EXPECT_LT(worst, 0.01 * kLength / 12) << "built shaft up to " << worst << " mm off the analysed one";
+  // The widest part of each vane still reaches the measured width from the shaft.
+  double reach[2] = {0, 0};
+  for (const Curve& c : feather.curves) {
+    if (c.kind != CurveKind::Barb) continue;
+    const BSpline3 b = spline(c);
+    const glm::dvec2 tip(b.eval(1.0));
+    double best = 1e300;
+    for (int j = 0; j <= 2000; ++j) best = std::min(best, glm::length(tip - f.shaft_mm.eval(j / 2000.0)));
+    double& r = reach[c.side == VaneSide::Right];
+    r = std::max(r, best);
+  }
+  EXPECT_NEAR(reach[0], kWidthLeft, 0.1 * kWidthLeft);
+  EXPECT_NEAR(reach[1], kWidthRight, 0.1 * kWidthRight);
 }
 
 TEST(LayoutToParams, UnsureValuesAreReplacedWithAWarning) {

@@ -8,6 +8,7 @@
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
 #include "plumage/generator/builder.h"
+#include "plumage/generator/shaft_pose.h"
 
 namespace plumage {
 namespace {
@@ -474,7 +475,7 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
   p.shaft.bend_deg = std::isfinite(turn) ? std::clamp(-turn * 180.0 / kPi, -90.0, 90.0) : 0.0;
   const double r_base = 0.5 * f.shaft_width_mm;
   p.shaft.radius_base = std::isfinite(r_base) && r_base > 1e-3 ? std::min(r_base, 0.02 * L) : 0.004 * L;
-  p.shaft.radius_tip = std::max(1e-4, 0.15 * p.shaft.radius_base);
+  p.shaft.radius_tip = std::max(1e-4, kShaftTipRadiusFraction * p.shaft.radius_base);
   p.barb.radius_root = std::clamp(0.15 * p.shaft.radius_base, 1e-3, 0.2);
   p.barb.radius_tip = 0.4 * p.barb.radius_root;
 
@@ -597,25 +598,10 @@ Feather layout_to_feather(const FeatherLayout& f, std::uint64_t seed, const std:
   Feather feather = build_feather(lp.params, seed, "layout:" + source);
   if (warnings) *warnings = lp.warnings;
 
-  // Turn the built feather about its calamus so its chord lies on the analysed
-  // chord, then move the calamus onto the analysed one.
-  const Curve* shaft = feather.shaft();
-  if (shaft && shaft->points.size() >= 4) {
-    BSpline3 built;
-    for (const auto& cp : shaft->points) built.control_points().push_back(glm::dvec3(cp.p));
-    const glm::dvec3 b0 = built.eval(0.0), b1 = built.eval(1.0);
-    const glm::dvec2 a0 = f.shaft_mm.eval(0.0), a1 = f.shaft_mm.eval(1.0);
-    const double angle = std::atan2(a1.y - a0.y, a1.x - a0.x) - std::atan2(b1.y - b0.y, b1.x - b0.x);
-    const float c = float(std::cos(angle)), s = float(std::sin(angle));
-    const glm::vec2 from(b0), to(a0);
-    const auto turn = [&](glm::vec2 v) { return glm::vec2(c * v.x - s * v.y, s * v.x + c * v.y); };
-    for (Curve& curve : feather.curves)
-      for (ControlPoint& cp : curve.points) {
-        const glm::vec2 q = turn(glm::vec2(cp.p) - from) + to;
-        cp.p = glm::vec3(q, cp.p.z);
-        cp.n = glm::vec3(turn(glm::vec2(cp.n)), cp.n.z);
-      }
-  }
+  // The built shaft is an arc through the analysed calamus and tip; the analysed one
+  // may bend both ways. Each vane was measured across the analysed shaft, so the
+  // built feather is laid along it (shaft_pose.h), its calamus on the analysed one.
+  lay_along_shaft(feather, f.shaft_mm);
 
   if (!f.albedo.file.empty()) {
     if (!(f.albedo.width_px > 0 && f.albedo.height_px > 0 && f.albedo.mm_per_texel > 0))

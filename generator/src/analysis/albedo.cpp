@@ -44,15 +44,25 @@ AlbedoResult extract_albedo(const cv::Mat& bgr, const Component& f, const glm::d
   cv::warpAffine(f.mask, mask, Tm, cv::Size(W, H), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP);
 
   // The shaft is modelled as its own curve, so its colour must not stay in the vane texture.
+  // It is painted out as wide as the generated rachis is there: the measured width (the
+  // bare quill's) at the base, narrowing as the builder narrows it toward the tip
+  // (kShaftTipRadiusFraction); a stripe of the quill's width all the way up would paint out
+  // a narrow vane to its edge.
   cv::Mat shaft_mask = cv::Mat::zeros(H, W, CV_8U);
-  std::vector<cv::Point> pl;
-  for (int i = 0; i <= 200; ++i) {
-    const glm::dvec2 q = shaft_mm.eval(i / 200.0);
-    pl.emplace_back(int(std::lround((q.x - out.origin_mm.x) / tau - 0.5)),
-                    int(std::lround((out.origin_mm.y - q.y) / tau - 0.5)));
+  constexpr int kSegments = 200;
+  const double base_px = shaft_width_mm / tau;
+  int th = 1;
+  for (int i = 0; i < kSegments; ++i) {
+    const auto texel = [&](double u) {
+      const glm::dvec2 q = shaft_mm.eval(u);
+      return cv::Point(int(std::lround((q.x - out.origin_mm.x) / tau - 0.5)),
+                       int(std::lround((out.origin_mm.y - q.y) / tau - 0.5)));
+    };
+    const double u = (i + 0.5) / kSegments;
+    const int w = std::max(1, int(std::lround(base_px * (1.0 - (1.0 - kShaftTipRadiusFraction) * u)))) + 2;
+    th = std::max(th, w);
+    cv::line(shaft_mask, texel(double(i) / kSegments), texel(double(i + 1) / kSegments), cv::Scalar(255), w);
   }
-  const int th = std::max(1, int(std::lround(shaft_width_mm / tau))) + 2;
-  cv::polylines(shaft_mask, pl, false, cv::Scalar(255), th);
   shaft_mask &= mask;
   // Fill from the vane either side (normalised convolution over valid texels).
   const double sigma = std::max(1.0, 0.75 * th);
@@ -64,7 +74,10 @@ AlbedoResult extract_albedo(const cv::Mat& bgr, const Component& f, const glm::d
   if (strip.area() > 0) {
     const cv::Mat sm = shaft_mask(strip);
     cv::Mat t = tex(strip);
-    cv::Mat valid = (mask(strip) > 127) & ~sm, vf, tf, num, den;
+    // Only texels wholly inside the feather fill it: an edge texel is part card.
+    cv::Mat inside;
+    cv::erode(mask == 255, inside, cv::Mat());
+    cv::Mat valid = inside(strip) & ~sm, vf, tf, num, den;
     valid.convertTo(vf, CV_32F, 1.0 / 255.0);
     t.convertTo(tf, CV_32FC3);
     std::vector<cv::Mat> ch;

@@ -316,13 +316,15 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
 
   VaneMeasure out;
   std::vector<double> offsets[2];  // mean offset of the spacing lines, per station (left, right)
-  const double half_shaft = 0.5 * shaft_width_px;
   for (int k = 0; k < stations; ++k) {
     const double t = (k + 0.5) / stations;
     out.t.push_back(t);
     const int c = int(t * (L - 1));
     const int h = std::max(2, L / (2 * stations));
     const int j0 = std::max(0, c - h), j1 = std::min(L, c + h + 1);
+    // A side is present where the mask reaches past the rachis, which narrows from the
+    // quill's width at the calamus toward the tip as the built one does.
+    const double half_shaft = 0.5 * shaft_width_px * (1.0 - (1.0 - kShaftTipRadiusFraction) * t);
     for (int side : {-1, +1}) {
       SideMeasure& S = side < 0 ? out.left : out.right;
       const std::vector<int>& wv = side < 0 ? wl : wr;

@@ -46,6 +46,11 @@ struct AlbedoTexture {
 // The most stations one feather's layout may have (the reader refuses more).
 inline constexpr std::size_t kMaxLayoutStations = 4096;
 
+// The rachis a layout's feather is built with narrows from shaft_width_mm at the
+// calamus to this fraction of it at the tip (layout_to_params); the albedo texture
+// paints out the same band.
+inline constexpr double kShaftTipRadiusFraction = 0.15;
+
 struct FeatherLayout {
   int id = 1;                          // 1-based, as labelled on the overlay
   std::array<int, 4> bbox_px{};        // mask bounding box x, y, w, h (photo pixels)

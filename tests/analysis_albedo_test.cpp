@@ -1,0 +1,83 @@
+// The albedo texture (generator/src/analysis/albedo.cpp): the photo over its
+// paper, with the rachis painted out from the vane beside it. A narrow vane beside
+// a thick quill keeps its own colour: the painted band narrows toward the tip as the
+// built rachis does, and only texels wholly inside the feather fill it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <unistd.h>
+
+#include "plumage/common/image.h"
+#include "plumage/generator/analysis/analyze.h"
+#include "synthetic_feather.h"
+
+using namespace plumage;
+using plumage::synthetic::SyntheticFeather;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct NarrowVaneCase {
+  bool narrow_left;
+  double dir_deg;
+};
+
+class AnalysisAlbedo : public ::testing::TestWithParam<NarrowVaneCase> {};
+
+}  // namespace
+
+TEST_P(AnalysisAlbedo, ANarrowVaneBesideAThickQuillKeepsItsColour) {
+  const NarrowVaneCase c = GetParam();
+  SyntheticFeather F;
+  F.dir_deg = c.dir_deg;
+  F.shaft_width = 12;  // the quill, at the calamus; the rachis narrows to half at the tip
+  F.w_left = c.narrow_left ? 16 : 90;
+  F.w_right = c.narrow_left ? 90 : 16;
+  F.barb_contrast = 0;  // a uniform vane: every vane texel should read the same
+  F.noise = 0.005;
+  const fs::path dir = fs::temp_directory_path() / ("plumage_albedo_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path photo = dir / "feather.png";
+  write_image(photo, F.draw());
+
+  AnalyzeOptions opt;
+  opt.mm_per_px = 0.1;
+  const PhotoAnalysis A = analyze_photo(photo, opt);
+  fs::remove_all(dir);
+  ASSERT_EQ(A.layout.feathers.size(), 1u);
+  ASSERT_EQ(A.albedo.size(), 1u);
+  const FeatherLayout& f = A.layout.feathers[0];
+  const Image& tex = A.albedo[0];
+  // The drawn vane over the drawn paper, per channel (linear): what a vane texel says.
+  const glm::vec3 expect(srgb_to_linear(0.80f) / srgb_to_linear(0.96f), srgb_to_linear(0.50f) / srgb_to_linear(0.96f),
+                         srgb_to_linear(0.48f) / srgb_to_linear(0.96f));
+  const int side = c.narrow_left ? -1 : 1;
+  double sum = 0, worst = 0;
+  int n = 0;
+  for (double y = 0.35 * F.length; y <= 0.85 * F.length; y += 2.0) {
+    // Between the drawn rachis and the narrow vane's edge, 3 px clear of both: of the
+    // photo's blur and of a texel grid turned against the pixels.
+    const double x0 = 0.5 * F.shaft_width * (1.0 - 0.5 * y / F.length) + 3, x1 = F.half_width(y, side) - 3;
+    for (double x = x0; x <= x1; x += 1.0) {
+      const glm::dvec2 p = F.calamus + F.dir() * y + F.right() * (side * x);
+      const glm::dvec2 q = apply(f.feather_from_image, p);
+      const int i = int(std::floor((q.x - f.albedo.origin_mm.x) / f.albedo.mm_per_texel));
+      const int j = int(std::floor((f.albedo.origin_mm.y - q.y) / f.albedo.mm_per_texel));
+      ASSERT_TRUE(i >= 0 && j >= 0 && i < tex.width && j < tex.height);
+      const float g = tex.at(i, j)[1];
+      sum += g;
+      worst = std::max(worst, std::fabs(g / expect.y - 1.0));
+      ++n;
+    }
+  }
+  ASSERT_GT(n, 100);
+  const double mean = sum / n;
+  std::printf("  narrow vane: %d texels, green %.3f for %.3f, worst %.1f %%\n", n, mean, expect.y, 100 * worst);
+  EXPECT_NEAR(mean / expect.y, 1.0, 0.03);
+  EXPECT_LT(worst, 0.12);
+}
+
+INSTANTIATE_TEST_SUITE_P(BothSides, AnalysisAlbedo,
+                         ::testing::Values(NarrowVaneCase{true, -90}, NarrowVaneCase{false, -70}));
