@@ -4,7 +4,11 @@
 find_package(glm REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(CLI11 REQUIRED)
+# OpenImageIO only for the image module (formats other than PNG and EXR); PNG and
+# EXR go through libpng and OpenEXR directly.
 find_package(OpenImageIO REQUIRED)
+find_package(OpenEXR 3 CONFIG REQUIRED)
+find_package(PNG REQUIRED)
 find_package(TBB REQUIRED)
 find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)
 find_package(GTest REQUIRED)
