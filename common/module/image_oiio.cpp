@@ -33,6 +33,7 @@ void* open_image(const char* path, PlumageImageHeader* header, char* error, std:
   const auto base = spec.format.basetype;
   header->is_float =
       base == OIIO::TypeDesc::FLOAT || base == OIIO::TypeDesc::HALF || base == OIIO::TypeDesc::DOUBLE;
+  header->bits = int(spec.format.size()) * 8;
   return in.release();
 }
 

@@ -173,7 +173,7 @@ std::string damage_of(const fs::path& path) {
   return {};
 }
 
-Image read_image(const fs::path& path, bool linearize, double max_megapixels) {
+Image read_image(const fs::path& path, bool linearize, double max_megapixels, ImageSource* source) {
   if (check_input_file(path, "an image") == 0) throw Error(Location{path.string()}, "empty file, not an image");
   if (const std::string damage = damage_of(path); !damage.empty())
     throw Error(Location{path.string()}, damage + "; copy or export the image again");
@@ -207,6 +207,7 @@ Image read_image(const fs::path& path, bool linearize, double max_megapixels) {
               : std::memcmp(magic, "\x76\x2f\x31\x01", 4) == 0 ? codec::read_exr(path, check, header)
                                                               : codec::read_with_module(path, check, header);
   const bool is_float = header.is_float;
+  if (source != nullptr) *source = {header.bits, header.is_float, header.alpha};
   if (linearize && !is_float) {
     // An 8-bit file holds at most 256 values: each is decoded once and remembered
     // by its exact float (the same result as srgb_to_linear on every sample,

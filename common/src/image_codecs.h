@@ -18,6 +18,7 @@ struct Header {
   int width = 0, height = 0, channels = 0;
   int alpha = -1;         // the alpha channel's index, or -1
   bool is_float = false;  // float, half or double samples (never sRGB-decoded)
+  int bits = 8;           // bits per sample as stored
 };
 
 // Called with the header before pixels are decoded; throws to refuse the image.

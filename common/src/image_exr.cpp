@@ -74,6 +74,9 @@ Image read_exr(const fs::path& path, const HeaderCheck& check, Header& header) {
       if (names[c] == "A") header.alpha = int(c);
     // 32-bit unsigned samples are integer codes, scaled to [0,1] like PNG's.
     header.is_float = !all_uint;
+    header.bits = 32;  // float or uint; 16 when a channel is half
+    for (auto it = in.header().channels().begin(); it != in.header().channels().end(); ++it)
+      if (it.channel().type == Imf::HALF) header.bits = 16;
     if (header.width <= 0 || header.height <= 0 || header.channels <= 0) throw Error(where, "image has no pixels");
     check(header);
 

@@ -90,7 +90,7 @@ Image read_with_module(const fs::path& path, const HeaderCheck& check, Header& h
     void* handle;
     ~Closer() { m.close(handle); }
   } closer{m, handle};
-  header = {h.width, h.height, h.channels, h.alpha, h.is_float != 0};
+  header = {h.width, h.height, h.channels, h.alpha, h.is_float != 0, h.bits};
   if (header.width <= 0 || header.height <= 0 || header.channels <= 0) throw Error(where, "image has no pixels");
   check(header);
   Image img(header.width, header.height, header.channels);

@@ -11,6 +11,7 @@ struct PlumageImageHeader {
   int width, height, channels;
   int alpha;     // alpha channel index or -1
   int is_float;  // float, half or double samples
+  int bits;      // bits per sample as stored
 };
 
 struct PlumageImageModule {
@@ -29,7 +30,7 @@ struct PlumageImageModule {
 }  // extern "C"
 
 namespace plumage::codec {
-inline constexpr int kImageModuleAbi = 1;
+inline constexpr int kImageModuleAbi = 2;
 inline constexpr const char* kImageModuleEntry = "plumage_image_module_v1";
 inline constexpr const char* kImageModuleFile = "plumage_image_oiio.so";
 }  // namespace plumage::codec

@@ -104,9 +104,10 @@ Image read_png(const fs::path& path, const HeaderCheck& check, Header& header) {
   header.channels = png_get_channels(f->png, f->info);
   header.alpha = header.channels == 2 || header.channels == 4 ? header.channels - 1 : -1;
   header.is_float = false;
+  const bool wide = png_get_bit_depth(f->png, f->info) == 16;
+  header.bits = wide ? 16 : 8;
   check(header);
 
-  const bool wide = png_get_bit_depth(f->png, f->info) == 16;
   const std::size_t row_bytes = png_get_rowbytes(f->png, f->info);
   const std::size_t samples = std::size_t(header.width) * header.channels;
   if (row_bytes != samples * (wide ? 2 : 1)) throw Error(where, "cannot decode image: unexpected PNG row layout");

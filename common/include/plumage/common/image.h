@@ -74,7 +74,13 @@ inline constexpr int kMaxImageChannels = 16;
 // converted to linear unless `linearize` is false; float files are returned as is.
 // Only regular files are read (check_input_file); images above `max_megapixels`,
 // kMaxImageSide or kMaxImageChannels are refused unread. Throws plumage::Error naming the file and the problem.
+// What a file held besides its pixels, for a reader that needs to know.
+struct ImageSource {
+  int bits = 8;           // bits per sample as stored (8, 16, 32)
+  bool is_float = false;  // float or half samples, returned as stored
+  int alpha = -1;         // the alpha channel's index, or -1
+};
 Image read_image(const std::filesystem::path& path, bool linearize = true,
-                 double max_megapixels = kMaxImageMegapixels);
+                 double max_megapixels = kMaxImageMegapixels, ImageSource* source = nullptr);
 
 }  // namespace plumage
