@@ -132,7 +132,13 @@ Photo load_photo(const fs::path& path, double max_megapixels, double refuse_mega
     decoded = read_image(path, false, refuse_megapixels, &source);
   } catch (const Error& e) {
     if (e.message().find("megapixel") != std::string::npos) throw;
-    throw Error(where, e.message() + "; give a PNG, JPEG or TIFF photo");
+    const std::string unreadable = "cannot read as an image";
+    std::string why = e.message();
+    if (why.rfind(unreadable, 0) == 0) {
+      why = why.substr(why.size() > unreadable.size() + 2 ? unreadable.size() + 2 : why.size());
+      why = "not an image (or it is damaged" + (why.empty() ? "" : ": " + why) + ")";
+    }
+    throw Error(where, why + "; give a PNG, JPEG or TIFF photo");
   }
   const cv::Mat raw = to_mat(decoded, source);
   Photo photo;
