@@ -3,6 +3,7 @@
 // heap; what throws (header checks, our own errors) runs after libpng returned.
 #include <png.h>
 
+#include <cerrno>
 #include <csetjmp>
 #include <cstdint>
 #include <cstdio>
