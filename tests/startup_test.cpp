@@ -65,6 +65,13 @@ std::string run_listing_loads(const std::string& args, int* rc) {
   return out;
 }
 
+// The sanitizer build's CLI loads OpenImageIO at start (CMakeLists.txt says why).
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kCliLoadsOpenImageIOAtStart = true;
+#else
+constexpr bool kCliLoadsOpenImageIOAtStart = false;
+#endif
+
 bool mentions(const std::vector<std::string>& libs, const std::string& part) {
   for (const std::string& l : libs)
     if (l.find(part) != std::string::npos) return true;
@@ -74,6 +81,7 @@ bool mentions(const std::vector<std::string>& libs, const std::string& part) {
 }  // namespace
 
 TEST(Startup, CliDoesNotLinkOpenImageIOOrImgcodecs) {
+  if (kCliLoadsOpenImageIOAtStart) GTEST_SKIP() << "the sanitizer build's CLI links OpenImageIO";
   const std::vector<std::string> libs = needed_libraries(PLUMAGE_CLI);
   std::string all;
   for (const std::string& l : libs) all += l + " ";
@@ -86,6 +94,7 @@ TEST(Startup, CliDoesNotLinkOpenImageIOOrImgcodecs) {
 }
 
 TEST(Startup, RenderLoadsOpenImageIOOnlyForOtherFormats) {
+  if (kCliLoadsOpenImageIOAtStart) GTEST_SKIP() << "the sanitizer build's CLI links OpenImageIO";
   const fs::path dir = fs::temp_directory_path() / ("plumage_startup_test_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
