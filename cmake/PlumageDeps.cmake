@@ -4,9 +4,14 @@
 find_package(glm REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(CLI11 REQUIRED)
+# OpenImageIO only for the image module (formats other than PNG and EXR); PNG and
+# EXR go through libpng and OpenEXR directly.
 find_package(OpenImageIO REQUIRED)
+find_package(OpenEXR 3 CONFIG REQUIRED)
+find_package(PNG REQUIRED)
 find_package(TBB REQUIRED)
-find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)
+# Photos are decoded by read_image (common/image.h): no imgcodecs.
+find_package(OpenCV REQUIRED COMPONENTS core imgproc)
 find_package(GTest REQUIRED)
 if(PLUMAGE_BUILD_BENCH)
   find_package(benchmark REQUIRED)

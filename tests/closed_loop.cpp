@@ -2,8 +2,6 @@
 // degraded JPEG -> analyze_photo -> errors against the generated geometry.
 #include "closed_loop.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +9,7 @@
 
 #include "plumage/common/bspline.h"
 #include "plumage/common/error.h"
+#include "plumage/common/image.h"
 #include "plumage/generator/analysis/analyze.h"
 #include "plumage/generator/builder.h"
 #include "plumage/generator/random.h"
@@ -219,22 +218,16 @@ void degrade_and_write(const Image& linear, const Degradation& d, std::uint64_t 
     pass(b, a, 0, 1);
   }
   Rng rng(seed);
-  std::vector<unsigned char> bytes(a.size());
+  // The photo's 8-bit codes, held as the linear values write_image encodes back to them.
+  Image photo(W, H, 3);
   for (std::size_t i = 0; i < a.size(); ++i) {
     // Box-Muller from the generator's portable uniforms.
     const double u1 = std::max(rng.uniform(), 1e-12), u2 = rng.uniform();
     const double n = std::sqrt(-2 * std::log(u1)) * std::cos(2 * kPi * u2);
-    bytes[i] = static_cast<unsigned char>(
-        std::lround(255.0 * std::clamp(a[i] + d.noise_sigma * n, 0.0, 1.0)));
+    const long code = std::lround(255.0 * std::clamp(a[i] + d.noise_sigma * n, 0.0, 1.0));
+    photo.pixels[i] = srgb_to_linear(float(code) / 255.0f);
   }
-  auto out = OIIO::ImageOutput::create(path.string());
-  if (!out) throw Error(Location{path.string()}, "cannot create a JPEG writer");
-  OIIO::ImageSpec spec(W, H, 3, OIIO::TypeDesc::UINT8);
-  spec.attribute("Compression", "jpeg:" + std::to_string(d.jpeg_quality));
-  spec.attribute("CompressionQuality", d.jpeg_quality);
-  if (!out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, bytes.data()) ||
-      !out->close())
-    throw Error(Location{path.string()}, "cannot write the JPEG: " + out->geterror());
+  write_image(path, photo, d.jpeg_quality);
 }
 
 // ---------------------------------------------------------------------------

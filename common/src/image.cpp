@@ -5,15 +5,14 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
 #include <limits>
 #include <memory>
 #include <sstream>
 
-#include <OpenImageIO/imageio.h>
-
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
-#include "plumage/common/stderr_capture.h"
+#include "image_codecs.h"
 
 namespace plumage {
 namespace fs = std::filesystem;
@@ -78,50 +77,43 @@ struct SrgbCodes {
   }
 };
 
+// The 8-bit samples of `img`: colour through the sRGB curve, alpha (the last of
+// 2 or 4 channels) linear, both clamped to [0,1].
+std::vector<unsigned char> srgb_bytes(const Image& img) {
+  static const SrgbCodes srgb_code;
+  std::vector<unsigned char> bytes(img.pixels.size());
+  const int alpha = img.channels == 4 || img.channels == 2 ? img.channels - 1 : -1;
+  for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+    const float v = img.pixels[i];
+    bytes[i] = int(i % img.channels) != alpha ? srgb_code(v)
+                                               : static_cast<unsigned char>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+  }
+  return bytes;
+}
+
 // Encodes `img` into `file` (a temporary name); errors name `path`, the target.
-void encode_image(const fs::path& file, const fs::path& path, const Image& img) {
+void encode_image(const fs::path& file, const fs::path& path, const Image& img, int quality) {
   if (img.width <= 0 || img.height <= 0 || img.channels <= 0 ||
       img.pixels.size() != std::size_t(img.width) * img.height * img.channels)
     throw Error(Location{path.string()}, "refusing to write an empty or inconsistent image");
   const std::string ext = lower_ext(path);
-  const bool is_float = ext == ".exr" || ext == ".hdr";
-  auto out = OIIO::ImageOutput::create(file.string());
-  if (!out) throw Error(Location{path.string()}, "no image writer for extension '" + ext + "': " + OIIO::geterror());
-  OIIO::ImageSpec spec(img.width, img.height, img.channels, is_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-  if (ext == ".exr") spec.attribute("compression", "zip");
-  // zlib level 1 instead of OIIO's 6: the artifacts are a few per cent larger
-  // and written several times faster (docs/perf/p2f.md).
-  if (ext == ".png") spec.attribute("png:compressionLevel", 1);
-  // Pixels go to the file as given: without this OIIO divides colour by alpha
-  // for PNG, and does so after our sRGB encoding.
-  spec.attribute("oiio:UnassociatedAlpha", 1);
-  if (!out->open(file.string(), spec)) throw Error(Location{path.string()}, "cannot open for writing: " + out->geterror());
-  bool ok;
-  if (is_float) {
-    ok = out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
-  } else {
-    static const SrgbCodes srgb_code;
-    std::vector<unsigned char> bytes(img.pixels.size());
-    const int alpha = img.channels == 4 || img.channels == 2 ? img.channels - 1 : -1;
-    for (std::size_t i = 0; i < img.pixels.size(); ++i) {
-      const float v = img.pixels[i];
-      bytes[i] = int(i % img.channels) != alpha
-                     ? srgb_code(v)
-                     : static_cast<unsigned char>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
-    }
-    ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
-  }
-  if (!ok || !out->close()) throw Error(Location{path.string()}, "write failed: " + out->geterror());
+  if (ext == ".exr") return codec::write_exr(file, path, img);
+  if (ext == ".png") return codec::write_png(file, path, img.width, img.height, img.channels, srgb_bytes(img));
+  const std::string format = ext.empty() ? std::string() : ext.substr(1);
+  if (ext == ".hdr")
+    return codec::write_with_module(file, path, format, img.width, img.height, img.channels, true, img.pixels.data(), 0);
+  const std::vector<unsigned char> bytes = srgb_bytes(img);
+  codec::write_with_module(file, path, format, img.width, img.height, img.channels, false, bytes.data(), quality);
 }
 }  // namespace
 
-void write_image(FileBatch& batch, const fs::path& path, const Image& img) {
-  batch.stage(path, [&](const fs::path& tmp) { encode_image(tmp, path, img); });
+void write_image(FileBatch& batch, const fs::path& path, const Image& img, int jpeg_quality) {
+  batch.stage(path, [&](const fs::path& tmp) { encode_image(tmp, path, img, jpeg_quality); });
 }
 
-void write_image(const fs::path& path, const Image& img) {
+void write_image(const fs::path& path, const Image& img, int jpeg_quality) {
   FileBatch batch;
-  write_image(batch, path, img);
+  write_image(batch, path, img, jpeg_quality);
   batch.commit();
 }
 
@@ -181,55 +173,48 @@ std::string damage_of(const fs::path& path) {
   return {};
 }
 
-Image read_image(const fs::path& path, bool linearize, double max_megapixels) {
+Image read_image(const fs::path& path, bool linearize, double max_megapixels, ImageSource* source) {
   if (check_input_file(path, "an image") == 0) throw Error(Location{path.string()}, "empty file, not an image");
   if (const std::string damage = damage_of(path); !damage.empty())
     throw Error(Location{path.string()}, damage + "; copy or export the image again");
-  // Alpha comes back as stored (see write_image): no premultiplication on read.
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  // The decoders' own stderr lines go into our error message, or nowhere.
-  StderrCapture decoder_messages;
-  auto in = OIIO::ImageInput::open(path.string(), &config);
-  if (!in) {
-    std::string why = OIIO::geterror();
-    if (why.empty()) why = decoder_messages.text();
-    throw Error(Location{path.string()}, "cannot read as an image" + (why.empty() ? std::string() : ": " + why));
+  const Location where{path.string()};
+  const auto check = [&](const codec::Header& h) {
+    if (h.width <= 0 || h.height <= 0 || h.channels <= 0) throw Error(where, "image has no pixels");
+    const double megapixels = double(h.width) * double(h.height) / 1e6;
+    if (megapixels > max_megapixels || h.width > kMaxImageSide || h.height > kMaxImageSide) {
+      std::ostringstream m;
+      m << "image is " << h.width << "x" << h.height << "x" << h.channels << " (" << std::lround(megapixels)
+        << " megapixels), above the ";
+      if (megapixels > max_megapixels)
+        m << max_megapixels << "-megapixel limit";
+      else
+        m << kMaxImageSide << "-pixel limit of a side";
+      m << " of image inputs; downscale it first";
+      throw Error(where, m.str());
+    }
+    if (h.channels > kMaxImageChannels)
+      throw Error(where, "image has " + std::to_string(h.channels) + " channels, above the limit of " +
+                             std::to_string(kMaxImageChannels) + "; keep RGB or RGBA");
+  };
+  // The format is told by the file's first bytes, not its name.
+  char magic[4] = {};
+  {
+    std::ifstream in(path, std::ios::binary);
+    in.read(magic, sizeof magic);
   }
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-    throw Error(Location{path.string()}, "image has no pixels");
-  const double megapixels = double(spec.width) * double(spec.height) / 1e6;
-  if (megapixels > max_megapixels || spec.width > kMaxImageSide || spec.height > kMaxImageSide) {
-    std::ostringstream m;
-    m << "image is " << spec.width << "x" << spec.height << "x" << spec.nchannels << " (" << std::lround(megapixels)
-      << " megapixels), above the ";
-    if (megapixels > max_megapixels)
-      m << max_megapixels << "-megapixel limit";
-    else
-      m << kMaxImageSide << "-pixel limit of a side";
-    m << " of image inputs; downscale it first";
-    throw Error(Location{path.string()}, m.str());
-  }
-  if (spec.nchannels > kMaxImageChannels)
-    throw Error(Location{path.string()}, "image has " + std::to_string(spec.nchannels) + " channels, above the limit of " +
-                                             std::to_string(kMaxImageChannels) + "; keep RGB or RGBA");
-  Image img(spec.width, spec.height, spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data())) {
-    std::string why = in->geterror();
-    if (why.empty()) why = decoder_messages.text();
-    throw Error(Location{path.string()}, "cannot decode image: " + why);
-  }
-  const bool is_float = spec.format.basetype == OIIO::TypeDesc::FLOAT || spec.format.basetype == OIIO::TypeDesc::HALF ||
-                        spec.format.basetype == OIIO::TypeDesc::DOUBLE;
-  in->close();
+  codec::Header header;
+  Image img = std::memcmp(magic, "\x89PNG", 4) == 0   ? codec::read_png(path, check, header)
+              : std::memcmp(magic, "\x76\x2f\x31\x01", 4) == 0 ? codec::read_exr(path, check, header)
+                                                              : codec::read_with_module(path, check, header);
+  const bool is_float = header.is_float;
+  if (source != nullptr) *source = {header.bits, header.is_float, header.alpha};
   if (linearize && !is_float) {
     // An 8-bit file holds at most 256 values: each is decoded once and remembered
     // by its exact float (the same result as srgb_to_linear on every sample,
     // without a pow per sample).
     std::array<float, 256> in_value, out_value;
     in_value.fill(std::numeric_limits<float>::quiet_NaN());
-    const int alpha = spec.alpha_channel;
+    const int alpha = header.alpha;
     for (std::size_t i = 0; i < img.pixels.size(); ++i) {
       if (int(i % img.channels) == alpha) continue;
       float& v = img.pixels[i];

@@ -1,15 +1,14 @@
-// Loading a photo for analysis: any bit depth and channel layout to 8-bit BGR,
-// with a memory guard before decoding and a downscale above a pixel budget.
+// Loading a photo for analysis: decoded by read_image (common/image.h), any bit
+// depth and channel layout to 8-bit BGR, with a memory guard before decoding and
+// a downscale above a pixel budget.
 #include <cmath>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
-#include "plumage/common/stderr_capture.h"
 #include "steps.h"
 
 namespace plumage::analysis {
@@ -42,6 +41,38 @@ cv::Mat composite_alpha(const cv::Mat& bgra) {
   }
   cv::merge(rgb, out);
   return out;
+}
+// The decoded image as OpenCV holds a photo: 8 or 16-bit codes (or float as
+// stored), colour in BGR order, grey with alpha as BGRA.
+cv::Mat to_mat(const Image& img, const ImageSource& source) {
+  const int n = img.channels;
+  const int out_channels = n == 2 ? 4 : n;
+  const int depth = source.is_float ? CV_32F : source.bits > 8 ? CV_16U : CV_8U;
+  cv::Mat m = cv::Mat::zeros(img.height, img.width, CV_MAKETYPE(depth, out_channels));
+  const float scale = source.bits > 8 ? 65535.0f : 255.0f;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const float* p = img.at(x, y);
+      float v[4];
+      if (n == 2) {
+        v[0] = v[1] = v[2] = p[0];
+        v[3] = p[1];
+      } else if (n >= 3) {
+        for (int c = 0; c < std::min(n, 4); ++c) v[c] = p[c];
+        std::swap(v[0], v[2]);  // RGB -> BGR
+      } else {
+        v[0] = p[0];
+      }
+      for (int c = 0; c < std::min(out_channels, 4); ++c) {
+        if (depth == CV_32F)
+          m.ptr<float>(y)[x * out_channels + c] = v[c];
+        else if (depth == CV_16U)
+          m.ptr<std::uint16_t>(y)[x * out_channels + c] = std::uint16_t(std::lround(v[c] * scale));
+        else
+          m.ptr<std::uint8_t>(y)[x * out_channels + c] = std::uint8_t(std::lround(v[c] * scale));
+      }
+    }
+  return m;
 }
 }  // namespace
 
@@ -93,22 +124,23 @@ Photo load_photo(const fs::path& path, double max_megapixels, double refuse_mega
   }
   if (const std::string cut = damage_of(path); !cut.empty())
     throw Error(where, cut + "; copy or export the photo again");
-  cv::Mat raw;
-  {
-    StderrCapture decoder_messages;  // libpng/libjpeg lines go into the error, not on stderr
-    try {
-      raw = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
-    } catch (const cv::Exception& e) {
-      throw Error(where, std::string("cannot decode image: ") + e.err);
+  // Decoded by the project's one image reader (common/image.h), codes unlinearised:
+  // 8-bit codes k come back as k/255, 16-bit as k/65535, float as stored.
+  ImageSource source;
+  Image decoded;
+  try {
+    decoded = read_image(path, false, refuse_megapixels, &source);
+  } catch (const Error& e) {
+    if (e.message().find("megapixel") != std::string::npos) throw;
+    const std::string unreadable = "cannot read as an image";
+    std::string why = e.message();
+    if (why.rfind(unreadable, 0) == 0) {
+      why = why.substr(why.size() > unreadable.size() + 2 ? unreadable.size() + 2 : why.size());
+      why = "not an image (or it is damaged" + (why.empty() ? "" : ": " + why) + ")";
     }
-    const std::string why = decoder_messages.text();
-    if (raw.empty())
-      throw Error(where, "not an image OpenCV can read (or it is damaged" + (why.empty() ? "" : ": " + why) +
-                             "); give a PNG, JPEG or TIFF photo");
+    throw Error(where, why + "; give a PNG, JPEG or TIFF photo");
   }
-  if (double(raw.total()) / 1e6 > refuse_megapixels)
-    throw Error(where, "image is above the memory guard of " + std::to_string(refuse_megapixels) +
-                           " megapixels; downscale it first");
+  const cv::Mat raw = to_mat(decoded, source);
   Photo photo;
   photo.full_width = raw.cols;
   photo.full_height = raw.rows;

@@ -1,5 +1,8 @@
 #pragma once
-// The one image type and the one image reader/writer of Plumage (OpenImageIO).
+// The one image type and the one image reader/writer of Plumage. PNG (libpng)
+// and OpenEXR (OpenEXR) are read and written in the process; every other format
+// goes through OpenImageIO in a module, plumage_image_oiio.so, that is loaded
+// the first time such a file is met (docs/robustness.md, "Images").
 // Pixels are linear float, row-major, top row first, interleaved channels.
 #include <filesystem>
 #include <string>
@@ -33,12 +36,14 @@ struct Image {
 float srgb_to_linear(float v);
 float linear_to_srgb(float v);
 
-// Writes atomically. The extension picks the format: .exr (linear float, as is),
-// .hdr (linear), anything else (.png, .jpg, .tif, ...) is 8-bit with the sRGB
-// transfer curve applied to colour channels (alpha stays linear), clamped to [0,1].
-void write_image(const std::filesystem::path& path, const Image& img);
+// Writes atomically. The extension picks the format: .exr (linear float, as is,
+// ZIP-compressed), .hdr (linear), anything else (.png, .jpg, .tif, ...) is 8-bit
+// with the sRGB transfer curve applied to colour channels (alpha, the last of 2
+// or 4 channels, stays linear), clamped to [0,1]. `jpeg_quality` (1-100; 0: the
+// writer's default) is used by JPEG only.
+void write_image(const std::filesystem::path& path, const Image& img, int jpeg_quality = 0);
 // The same, staged in `batch` (atomic_file.h) with a command's other outputs.
-void write_image(FileBatch& batch, const std::filesystem::path& path, const Image& img);
+void write_image(FileBatch& batch, const std::filesystem::path& path, const Image& img, int jpeg_quality = 0);
 
 // Neither function premultiplies or un-premultiplies alpha: what is written is
 // what is read back (PNG stores straight alpha, so pass straight alpha for PNG).
@@ -64,11 +69,18 @@ inline constexpr double kMaxImageMegapixels = 128.0;
 inline constexpr int kMaxImageSide = 32768;
 inline constexpr int kMaxImageChannels = 16;
 
-// Reads any format OIIO knows. 8/16-bit integer files are taken to be sRGB and
+// Reads PNG, OpenEXR and any format OpenImageIO knows, told apart by the file's
+// first bytes. 8/16-bit integer files are taken to be sRGB and
 // converted to linear unless `linearize` is false; float files are returned as is.
 // Only regular files are read (check_input_file); images above `max_megapixels`,
 // kMaxImageSide or kMaxImageChannels are refused unread. Throws plumage::Error naming the file and the problem.
+// What a file held besides its pixels, for a reader that needs to know.
+struct ImageSource {
+  int bits = 8;           // bits per sample as stored (8, 16, 32)
+  bool is_float = false;  // float or half samples, returned as stored
+  int alpha = -1;         // the alpha channel's index, or -1
+};
 Image read_image(const std::filesystem::path& path, bool linearize = true,
-                 double max_megapixels = kMaxImageMegapixels);
+                 double max_megapixels = kMaxImageMegapixels, ImageSource* source = nullptr);
 
 }  // namespace plumage

@@ -1,0 +1,48 @@
+#pragma once
+// The decoders and encoders behind read_image and write_image (image.h): PNG
+// through libpng and OpenEXR through the OpenEXR library, both linked into the
+// process; every other format through OpenImageIO, which lives in a module
+// loaded on first use (image_module.cpp) so that a process that only reads and
+// writes PNG and EXR never loads it. Private to common/.
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "plumage/common/image.h"
+
+namespace plumage::codec {
+
+// What a file's header says, known before any pixel memory is taken.
+struct Header {
+  int width = 0, height = 0, channels = 0;
+  int alpha = -1;         // the alpha channel's index, or -1
+  bool is_float = false;  // float, half or double samples (never sRGB-decoded)
+  int bits = 8;           // bits per sample as stored
+};
+
+// Called with the header before pixels are decoded; throws to refuse the image.
+using HeaderCheck = std::function<void(const Header&)>;
+
+// Each reader returns samples as float: integer samples as code / (2^bits - 1),
+// float samples as stored; alpha as stored (straight). Errors are plumage::Error
+// naming `path`.
+Image read_png(const std::filesystem::path& path, const HeaderCheck& check, Header& header);
+Image read_exr(const std::filesystem::path& path, const HeaderCheck& check, Header& header);
+Image read_with_module(const std::filesystem::path& path, const HeaderCheck& check, Header& header);
+
+// Each writer writes `file` (a temporary name); errors name `target`.
+// 8-bit samples, interleaved, img.channels of them per pixel (1 to 4).
+void write_png(const std::filesystem::path& file, const std::filesystem::path& target, int width, int height,
+               int channels, const std::vector<unsigned char>& bytes);
+// Float samples, ZIP-compressed, channels named as OpenImageIO names them (Y; R G;
+// R G B; R G B A; then channel4, channel5, ...).
+void write_exr(const std::filesystem::path& file, const std::filesystem::path& target, const Image& img);
+// Any other format OpenImageIO writes, chosen by `format` (the target's extension
+// without its dot); `samples` are float when `is_float`, else 8-bit. `quality`
+// (1-100, 0 for the writer's default) is the JPEG quality.
+void write_with_module(const std::filesystem::path& file, const std::filesystem::path& target,
+                       const std::string& format, int width, int height, int channels, bool is_float,
+                       const void* samples, int quality);
+
+}  // namespace plumage::codec

@@ -1,0 +1,126 @@
+// A process that reads and writes only PNG and EXR never loads OpenImageIO (its
+// ~260 libraries cost 0.15-0.2 s of every start, docs/perf/render.md) nor
+// OpenCV's imgcodecs: the `plumage` binary does not link them, and a render
+// with an EXR sky writing EXR and PNG loads neither, while one with an HDR sky
+// loads OpenImageIO through the image module (the control that shows the check
+// sees a load).
+#include <elf.h>
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include "plumage/common/atomic_file.h"
+#include "plumage/common/image.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The DT_NEEDED entries of a 64-bit little-endian ELF file.
+std::vector<std::string> needed_libraries(const fs::path& file) {
+  const std::string b = plumage::read_file(file);
+  std::vector<std::string> out;
+  if (b.size() < sizeof(Elf64_Ehdr) || b.compare(0, 4, ELFMAG) != 0 || b[EI_CLASS] != ELFCLASS64) return out;
+  Elf64_Ehdr eh;
+  std::memcpy(&eh, b.data(), sizeof eh);
+  std::vector<Elf64_Phdr> ph(eh.e_phnum);
+  for (int i = 0; i < eh.e_phnum; ++i)
+    std::memcpy(&ph[std::size_t(i)], b.data() + eh.e_phoff + std::size_t(i) * eh.e_phentsize, sizeof(Elf64_Phdr));
+  // A virtual address to its offset in the file, through the loaded segments.
+  const auto offset_of = [&](Elf64_Addr a) -> std::size_t {
+    for (const Elf64_Phdr& p : ph)
+      if (p.p_type == PT_LOAD && a >= p.p_vaddr && a < p.p_vaddr + p.p_filesz) return a - p.p_vaddr + p.p_offset;
+    return b.size();
+  };
+  for (const Elf64_Phdr& p : ph) {
+    if (p.p_type != PT_DYNAMIC) continue;
+    std::vector<Elf64_Dyn> dyn(p.p_filesz / sizeof(Elf64_Dyn));
+    std::memcpy(dyn.data(), b.data() + p.p_offset, dyn.size() * sizeof(Elf64_Dyn));
+    std::size_t strtab = b.size();
+    for (const Elf64_Dyn& d : dyn)
+      if (d.d_tag == DT_STRTAB) strtab = offset_of(d.d_un.d_ptr);
+    for (const Elf64_Dyn& d : dyn)
+      if (d.d_tag == DT_NEEDED && strtab + d.d_un.d_val < b.size()) out.emplace_back(b.c_str() + strtab + d.d_un.d_val);
+  }
+  return out;
+}
+
+// Runs the CLI with the dynamic loader's list of what it loads (LD_DEBUG=files)
+// and returns everything it printed.
+std::string run_listing_loads(const std::string& args, int* rc) {
+  const std::string cmd = std::string("LD_DEBUG=files '") + PLUMAGE_CLI + "' " + args + " 2>&1";
+  std::string out;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (pipe == nullptr) return "popen failed";
+  char buf[4096];
+  while (std::size_t n = fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
+  const int status = pclose(pipe);
+  *rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return out;
+}
+
+// The sanitizer build's CLI loads OpenImageIO at start (CMakeLists.txt says why).
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kCliLoadsOpenImageIOAtStart = true;
+#else
+constexpr bool kCliLoadsOpenImageIOAtStart = false;
+#endif
+
+bool mentions(const std::vector<std::string>& libs, const std::string& part) {
+  for (const std::string& l : libs)
+    if (l.find(part) != std::string::npos) return true;
+  return false;
+}
+
+}  // namespace
+
+TEST(Startup, CliDoesNotLinkOpenImageIOOrImgcodecs) {
+  if (kCliLoadsOpenImageIOAtStart) GTEST_SKIP() << "the sanitizer build's CLI links OpenImageIO";
+  const std::vector<std::string> libs = needed_libraries(PLUMAGE_CLI);
+  std::string all;
+  for (const std::string& l : libs) all += l + " ";
+  // The reader works: it finds what the binary must link.
+  EXPECT_TRUE(mentions(libs, "libOpenEXR")) << all;
+  EXPECT_TRUE(mentions(libs, "libpng")) << all;
+  EXPECT_TRUE(mentions(libs, "libembree")) << all;
+  EXPECT_FALSE(mentions(libs, "OpenImageIO")) << all;
+  EXPECT_FALSE(mentions(libs, "opencv_imgcodecs")) << all;
+}
+
+TEST(Startup, RenderLoadsOpenImageIOOnlyForOtherFormats) {
+  if (kCliLoadsOpenImageIOAtStart) GTEST_SKIP() << "the sanitizer build's CLI links OpenImageIO";
+  const fs::path dir = fs::temp_directory_path() / ("plumage_startup_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const plumage::Image sky(8, 4, 3, 0.8f);
+  plumage::write_image(dir / "sky.exr", sky);
+  plumage::write_image(dir / "sky.hdr", sky);
+  int rc = -1;
+  const std::string feather = (dir / "f.fcurves").string();
+  run_listing_loads("-q generate --preset rock-dove-wing --seed 1 -o '" + feather + "'", &rc);
+  ASSERT_EQ(rc, 0);
+  const std::string render = "-q render '" + feather + "' --resolution 8x12 --spp 1 --threads 1 --lights none --env ";
+
+  const std::string plain = run_listing_loads(
+      render + "'" + (dir / "sky.exr").string() + "' -o '" + (dir / "x.exr").string() + "'", &rc);
+  EXPECT_EQ(rc, 0) << plain.substr(plain.size() > 2000 ? plain.size() - 2000 : 0);
+  EXPECT_NE(plain.find("libOpenEXR"), std::string::npos) << "LD_DEBUG listed no loads";
+  EXPECT_EQ(plain.find("OpenImageIO"), std::string::npos);
+  EXPECT_EQ(plain.find("opencv_imgcodecs"), std::string::npos);
+  const std::string png = run_listing_loads(
+      render + "'" + (dir / "sky.exr").string() + "' -o '" + (dir / "x.png").string() + "'", &rc);
+  EXPECT_EQ(rc, 0);
+  EXPECT_EQ(png.find("OpenImageIO"), std::string::npos);
+
+  const std::string hdr = run_listing_loads(
+      render + "'" + (dir / "sky.hdr").string() + "' -o '" + (dir / "y.exr").string() + "'", &rc);
+  EXPECT_EQ(rc, 0);
+  EXPECT_NE(hdr.find("libOpenImageIO"), std::string::npos) << "an HDR sky is read through the OpenImageIO module";
+  fs::remove_all(dir);
+}
