@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -172,6 +173,34 @@ TEST_F(FileBatchTest, ImageReaderRefusesADamagedExrHeader) {
   write_file_atomic(dir_ / "bad.exr", bytes);
   EXPECT_NE(damage_of(dir_ / "bad.exr").find("past the end of the file"), std::string::npos) << damage_of(dir_ / "bad.exr");
   EXPECT_THROW(read_image(dir_ / "bad.exr"), Error);
+}
+
+// OpenEXR takes its line buffers while opening a file: a data window 2^24 pixels
+// wide (inside damage_of's sanity bound) with 16 channels under DWAB compression
+// (blocks of 256 lines) would ask for 2^24 x 16 x 4 x 256 bytes = 64 GiB before
+// any size check that looks at an opened file. read_image reads the header alone
+// first and refuses it by the side limit.
+TEST_F(FileBatchTest, ImageReaderRefusesAnExrAboveTheLimitsBeforeOpeningIt) {
+  write_image(dir_ / "ok.exr", Image(16, 1, kMaxImageChannels, 0.25f));
+  std::string bytes = read_file(dir_ / "ok.exr");
+  const auto value_of = [&](const std::string& name_and_type) {
+    const std::size_t at = bytes.find(name_and_type);
+    EXPECT_NE(at, std::string::npos) << name_and_type;
+    return at + name_and_type.size() + 4;  // past the int32 size
+  };
+  const std::size_t window = value_of(std::string("dataWindow\0box2i\0", 17));
+  const std::int32_t x_max = (1 << 24) - 1;
+  std::memcpy(&bytes[window + 8], &x_max, 4);  // little-endian, as OpenEXR stores it
+  bytes[value_of(std::string("compression\0compression\0", 24))] = 9;  // DWAB
+  write_file_atomic(dir_ / "huge_block.exr", bytes);
+  EXPECT_EQ(damage_of(dir_ / "huge_block.exr"), "");
+  try {
+    read_image(dir_ / "huge_block.exr");
+    ADD_FAILURE() << "a 2^24-pixel-wide EXR was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(std::to_string(kMaxImageSide) + "-pixel limit of a side"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(StderrCaptureTest, HoldsBackWhatIsPrintedAndRestoresStderr) {

@@ -7,9 +7,11 @@
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStdIO.h>
+#include <OpenEXR/ImfTileDescription.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <climits>
 #include <cstring>
 #include <exception>
 #include <fstream>
@@ -50,11 +52,41 @@ std::string channel_name(int c, int channels) {
   static const char* const kRgba[] = {"R", "G", "B", "A"};
   return c < 4 ? kRgba[c] : "channel" + std::to_string(c);
 }
+
+// The sizes the file's (first) header gives, read without opening the file for
+// its pixels: OpenEXR takes its line or tile buffers while opening, sized by the
+// data window, the channels and the compression's block of lines (256 for DWAB),
+// so a file above read_image's limits must be refused before that. Tiles count as
+// a block: at most kMaxImageSide on a side and 256 x kMaxImageSide pixels.
+Header header_alone(const fs::path& path) {
+  const Location where{path.string()};
+  Imf::StdIFStream in(path.c_str());
+  char start[8];
+  in.read(start, sizeof start);
+  int version = 0;
+  for (int k = 3; k >= 0; --k) version = (version << 8) | static_cast<unsigned char>(start[4 + k]);
+  Imf::Header exr;
+  exr.readFrom(in, version);
+  const Imath::Box2i window = exr.dataWindow();
+  Header h;
+  h.width = int(std::clamp<std::int64_t>(std::int64_t(window.max.x) - window.min.x + 1, 0, INT32_MAX));
+  h.height = int(std::clamp<std::int64_t>(std::int64_t(window.max.y) - window.min.y + 1, 0, INT32_MAX));
+  for (auto it = exr.channels().begin(); it != exr.channels().end(); ++it) ++h.channels;
+  if (exr.hasTileDescription()) {
+    const Imf::TileDescription& t = exr.tileDescription();
+    if (t.xSize > unsigned(kMaxImageSide) || t.ySize > unsigned(kMaxImageSide) ||
+        std::uint64_t(t.xSize) * t.ySize > 256u * std::uint64_t(kMaxImageSide))
+      throw Error(where, "its tiles are " + std::to_string(t.xSize) + "x" + std::to_string(t.ySize) +
+                             " pixels, above the limit of a block of image inputs; save it as scanlines");
+  }
+  return h;
+}
 }  // namespace
 
 Image read_exr(const fs::path& path, const HeaderCheck& check, Header& header) {
   const Location where{path.string()};
   try {
+    check(header_alone(path));
     Imf::InputFile in(path.c_str());
     const Imath::Box2i window = in.header().dataWindow();
     std::vector<std::string> names;
