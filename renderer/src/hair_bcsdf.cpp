@@ -128,7 +128,7 @@ HairBCSDF::HairBCSDF(const HairParams& params, float h) : p_(params) {
   // between the shading points of one thread: keep the last set computed.
   struct LobeTerms {
     float beta_m = -1, beta_n = -1, alpha_deg = 0;
-    double v[4], log_norm[4], s, np_norm, sin_shift[3], cos_shift[3];
+    double v[4], log_norm[4], mp_exp[4], s, np_norm, np_lo, np_mass, sin_shift[3], cos_shift[3];
   };
   thread_local LobeTerms last;
   if (last.beta_m != p_.beta_m || last.beta_n != p_.beta_n || last.alpha_deg != p_.alpha_deg) {
@@ -144,8 +144,11 @@ HairBCSDF::HairBCSDF(const HairParams& params, float h) : p_(params) {
     t.v[3] = 4.0 * v;
     for (int p = 0; p < 3; ++p) t.log_norm[p] = hair::longitudinal_mp_log_norm(t.v[p]);
     t.log_norm[3] = t.log_norm[2];
+    for (int p = 0; p < 4; ++p) t.mp_exp[p] = std::exp(-2.0 / t.v[p]);  // sampling's e^{-2/v}
     t.s = hair::logistic_scale_from_beta_n(p_.beta_n);
     t.np_norm = hair::trimmed_logistic_norm(t.s);
+    t.np_lo = hair::trimmed_logistic_cdf_lo(t.s);  // sampling's F(-pi) and mass on [-pi, pi]
+    t.np_mass = std::tanh(kPi / (2.0 * t.s));
     // Marschner et al. 2003 Table 1 shifts, in the 2^k alpha form: R by 2 alpha toward
     // the root, TT by alpha and TRT by 4 alpha toward the tip. The shift is applied to
     // theta_o: the lobe is centred on theta_i = -(theta_o + shift). Double-angle formulas
@@ -164,8 +167,11 @@ HairBCSDF::HairBCSDF(const HairParams& params, float h) : p_(params) {
   }
   std::copy(last.v, last.v + 4, v_);
   std::copy(last.log_norm, last.log_norm + 4, mp_log_norm_);
+  std::copy(last.mp_exp, last.mp_exp + 4, mp_exp_);
   s_ = last.s;
   np_norm_ = last.np_norm;
+  np_lo_ = last.np_lo;
+  np_mass_ = last.np_mass;
   std::copy(last.sin_shift, last.sin_shift + 3, sin_shift_);
   std::copy(last.cos_shift, last.cos_shift + 3, cos_shift_);
   gamma_o_ = std::asin(double(h_));
@@ -432,10 +438,10 @@ std::optional<BCSDFSample> HairBCSDF::sample(const glm::vec3& wo, const glm::vec
     sin_op = o.sin * cos_shift_[p] + o.cos * sin_shift_[p];
     cos_op = o.cos * cos_shift_[p] - o.sin * sin_shift_[p];
   }
-  const double sin_i = hair::sample_mp_sin_theta(sin_op, cos_op, v_[p], u1.x, u1.y);
+  const double sin_i = hair::sample_mp_sin_theta(sin_op, cos_op, v_[p], mp_exp_[p], u1.x, u1.y);
   const double cos_i = std::sqrt(std::max(0.0, 1.0 - sin_i * sin_i));
   const double dphi = p < 3 ? hair::azimuthal_shift(p, gamma_o_, at.gamma_t) +
-                                  hair::sample_trimmed_logistic(u0.y, s_)
+                                  hair::sample_trimmed_logistic(u0.y, s_, np_lo_, np_mass_)
                             : 2.0 * kPi * u0.y;
   const double phi_i = azimuth(wo) + dphi;
   const glm::vec3 wi = glm::normalize(

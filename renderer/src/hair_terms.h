@@ -68,13 +68,18 @@ inline double longitudinal_mp(double sin_i, double cos_i, double sin_o, double c
 // Samples sin(theta_i) from Mp by sampling the von Mises-Fisher lobe that Mp is the
 // longitudinal marginal of (d'Eon et al. 2011 §4; inversion of the vMF cosine after
 // Jakob 2012): mean direction theta = -theta_o, concentration 1/v.
-inline double sample_mp_sin_theta(double sin_o, double cos_o, double v, double u1, double u2) {
+// `exp_neg_2_over_v` = e^{-2/v}, which a BCSDF precomputes per lobe.
+inline double sample_mp_sin_theta(double sin_o, double cos_o, double v, double exp_neg_2_over_v, double u1,
+                                  double u2) {
   // cos of the angle to the lobe axis: 1 + v log(u + (1-u) e^{-2/v}).
-  const double x = std::clamp(
-      1.0 + v * std::log(std::max(u1 + (1.0 - u1) * std::exp(-2.0 / v), 1e-300)), -1.0, 1.0);
+  const double x =
+      std::clamp(1.0 + v * std::log(std::max(u1 + (1.0 - u1) * exp_neg_2_over_v, 1e-300)), -1.0, 1.0);
   const double sin_axis = std::sqrt(std::max(0.0, 1.0 - x * x));
   const double sin_i = -x * sin_o + sin_axis * std::cos(2.0 * kPi * u2) * std::abs(cos_o);
   return std::clamp(sin_i, -1.0, 1.0);
+}
+inline double sample_mp_sin_theta(double sin_o, double cos_o, double v, double u1, double u2) {
+  return sample_mp_sin_theta(sin_o, cos_o, v, std::exp(-2.0 / v), u1, u2);
 }
 
 // The logistic distribution of scale s (Chiang et al. 2016 eq. 11), symmetric so |x|
@@ -93,11 +98,16 @@ inline double trimmed_logistic(double x, double s) {
 }
 
 // Inverts the trimmed logistic's CDF (Chiang et al. 2016 eq. 13): u in [0,1] -> [-pi, pi].
-inline double sample_trimmed_logistic(double u, double s) {
-  const double lo = 1.0 / (1.0 + std::exp(kPi / s));  // F(-pi)
-  const double q = lo + u * std::tanh(kPi / (2.0 * s));
+// `lo` = F(-pi) = 1 / (1 + e^{pi/s}) and `mass` = tanh(pi / (2 s)), which a BCSDF
+// precomputes.
+inline double trimmed_logistic_cdf_lo(double s) { return 1.0 / (1.0 + std::exp(kPi / s)); }
+inline double sample_trimmed_logistic(double u, double s, double lo, double mass) {
+  const double q = lo + u * mass;
   const double x = s * (std::log(q) - std::log1p(-q));
   return std::clamp(x, -kPi, kPi);
+}
+inline double sample_trimmed_logistic(double u, double s) {
+  return sample_trimmed_logistic(u, s, trimmed_logistic_cdf_lo(s), std::tanh(kPi / (2.0 * s)));
 }
 
 // Wraps an angle into [-pi, pi].

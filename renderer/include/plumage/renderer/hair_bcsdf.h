@@ -122,7 +122,9 @@ class HairBCSDF {
   // Precomputed per-instance terms (double: Mp subtracts terms of size 1/v).
   double v_[4];                                 // longitudinal variances of R, TT, TRT, residual
   double mp_log_norm_[4];                       // log of Mp's normalisation per lobe
+  double mp_exp_[4];                            // e^{-2/v} per lobe (Mp sampling)
   double np_norm_;                              // 1 / (mass of the logistic on [-pi, pi])
+  double np_lo_, np_mass_;                      // its CDF at -pi and that mass (Np sampling)
   double sin_shift_[3], cos_shift_[3];          // cuticle shifts of theta_o for R, TT, TRT
   double s_;                                    // logistic scale
   double gamma_o_, cos_gamma_o_;
