@@ -84,7 +84,7 @@ Along project(const Polyline& L, const glm::dvec2& q) {
   return best;
 }
 
-// Point and chord index at arc length s, the end chords extended past the ends.
+// The chord holding arc length s (the first or last one beyond the ends).
 std::size_t chord_at(const Polyline& L, double s) {
   std::size_t lo = 0, hi = L.p.size() - 2;
   while (lo < hi) {

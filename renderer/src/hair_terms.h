@@ -78,9 +78,6 @@ inline double sample_mp_sin_theta(double sin_o, double cos_o, double v, double e
   const double sin_i = -x * sin_o + sin_axis * std::cos(2.0 * kPi * u2) * std::abs(cos_o);
   return std::clamp(sin_i, -1.0, 1.0);
 }
-inline double sample_mp_sin_theta(double sin_o, double cos_o, double v, double u1, double u2) {
-  return sample_mp_sin_theta(sin_o, cos_o, v, std::exp(-2.0 / v), u1, u2);
-}
 
 // The logistic distribution of scale s (Chiang et al. 2016 eq. 11), symmetric so |x|
 // keeps e^{-|x|/s} from overflowing.
@@ -105,9 +102,6 @@ inline double sample_trimmed_logistic(double u, double s, double lo, double mass
   const double q = lo + u * mass;
   const double x = s * (std::log(q) - std::log1p(-q));
   return std::clamp(x, -kPi, kPi);
-}
-inline double sample_trimmed_logistic(double u, double s) {
-  return sample_trimmed_logistic(u, s, trimmed_logistic_cdf_lo(s), std::tanh(kPi / (2.0 * s)));
 }
 
 // Wraps an angle into [-pi, pi].

@@ -46,20 +46,19 @@ AlbedoResult extract_albedo(const cv::Mat& bgr, const Component& f, const glm::d
   // The shaft is modelled as its own curve, so its colour must not stay in the vane texture.
   // It is painted out as wide as the generated rachis is there: the measured width (the
   // bare quill's) at the base, narrowing as the builder narrows it toward the tip
-  // (kShaftTipRadiusFraction); a stripe of the quill's width all the way up would paint out
+  // (rachis_width_fraction); a stripe of the quill's width all the way up would paint out
   // a narrow vane to its edge.
   cv::Mat shaft_mask = cv::Mat::zeros(H, W, CV_8U);
   constexpr int kSegments = 200;
   const double base_px = shaft_width_mm / tau;
+  const auto texel = [&](double u) {
+    const glm::dvec2 q = shaft_mm.eval(u);
+    return cv::Point(int(std::lround((q.x - out.origin_mm.x) / tau - 0.5)),
+                     int(std::lround((out.origin_mm.y - q.y) / tau - 0.5)));
+  };
   int th = 1;
   for (int i = 0; i < kSegments; ++i) {
-    const auto texel = [&](double u) {
-      const glm::dvec2 q = shaft_mm.eval(u);
-      return cv::Point(int(std::lround((q.x - out.origin_mm.x) / tau - 0.5)),
-                       int(std::lround((out.origin_mm.y - q.y) / tau - 0.5)));
-    };
-    const double u = (i + 0.5) / kSegments;
-    const int w = std::max(1, int(std::lround(base_px * (1.0 - (1.0 - kShaftTipRadiusFraction) * u)))) + 2;
+    const int w = std::max(1, int(std::lround(base_px * rachis_width_fraction((i + 0.5) / kSegments)))) + 2;
     th = std::max(th, w);
     cv::line(shaft_mask, texel(double(i) / kSegments), texel(double(i + 1) / kSegments), cv::Scalar(255), w);
   }

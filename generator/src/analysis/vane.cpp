@@ -324,7 +324,7 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
     const int j0 = std::max(0, c - h), j1 = std::min(L, c + h + 1);
     // A side is present where the mask reaches past the rachis, which narrows from the
     // quill's width at the calamus toward the tip as the built one does.
-    const double half_shaft = 0.5 * shaft_width_px * (1.0 - (1.0 - kShaftTipRadiusFraction) * t);
+    const double half_shaft = 0.5 * shaft_width_px * rachis_width_fraction(t);
     for (int side : {-1, +1}) {
       SideMeasure& S = side < 0 ? out.left : out.right;
       const std::vector<int>& wv = side < 0 ? wl : wr;

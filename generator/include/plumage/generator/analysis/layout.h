@@ -50,6 +50,9 @@ inline constexpr std::size_t kMaxLayoutStations = 4096;
 // calamus to this fraction of it at the tip (layout_to_params); the albedo texture
 // paints out the same band.
 inline constexpr double kShaftTipRadiusFraction = 0.15;
+// The built rachis's width at shaft parameter t (0 at the calamus, 1 at the tip) as a
+// fraction of its width at the calamus: it narrows linearly (builder.cpp).
+inline double rachis_width_fraction(double t) { return 1.0 - (1.0 - kShaftTipRadiusFraction) * t; }
 
 struct FeatherLayout {
   int id = 1;                          // 1-based, as labelled on the overlay
