@@ -368,6 +368,70 @@ TEST(HairBCSDF, ImportanceAndUniformEstimatesAgree) {
   }
 }
 
+// --- the lobe-selection estimator (sample_throughput) ----------------------------------
+
+// Same numbers, same direction as sample(); its weight A_p / w_p has, in the mean over
+// RGB, the value of sample()'s f cos / pdf (both are the sum over lobes of mean A_p), and
+// is exactly 1 per channel without absorption.
+TEST(HairBCSDF, ThroughputSamplingFollowsSample) {
+  Rng rng(22);
+  long compared = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const bool absorbing = k % 2 == 1;
+    const glm::vec3 sigma =
+        absorbing ? sigma_a_from_melanin(float(rng.range(0, 3)), float(rng.range(0, 1))) : glm::vec3(0.0f);
+    const HairParams p = params(float(rng.range(0.05, 1.0)), float(rng.range(0.05, 1.0)), sigma,
+                                float(rng.range(-5, 5)));
+    const float h = float(rng.range(-1, 1));
+    const glm::vec3 wo = uniform_direction(rng);
+    const HairBCSDF bcsdf(p, h);
+    const glm::vec2 u0(rng.uniformf(), rng.uniformf()), u1(rng.uniformf(), rng.uniformf());
+    const auto s = bcsdf.sample(wo, u0, u1);
+    const auto t = bcsdf.sample_throughput(wo, u0, u1);
+    if (!s) continue;
+    ASSERT_TRUE(t.has_value()) << describe(p, h, wo);
+    ASSERT_EQ(t->wi, s->wi) << describe(p, h, wo);
+    const glm::vec3 w = s->f * bcsdf_cos(s->wi) / s->pdf;
+    const float mean_s = (w.x + w.y + w.z) / 3, mean_t = (t->weight.x + t->weight.y + t->weight.z) / 3;
+    ASSERT_NEAR(mean_t / mean_s, 1.0f, 2e-3f) << describe(p, h, wo);
+    if (!absorbing)
+      for (int c = 0; c < 3; ++c) ASSERT_NEAR(t->weight[c], 1.0f, 1e-5f) << describe(p, h, wo);
+    ++compared;
+  }
+  EXPECT_GT(compared, 19000);
+}
+
+// Per channel the two estimators differ sample by sample but not in expectation: the
+// lobe-selection estimate of the integral of f cos g agrees with a uniform one.
+TEST(HairBCSDF, ThroughputAndUniformEstimatesAgree) {
+  const auto g = [](const glm::vec3& w) { return 1.0f + 0.5f * w.y + 0.25f * w.x * w.z + 0.3f * w.z * w.z; };
+  struct Case {
+    float bm, bn, melanin, red;
+  };
+  const Case cases[] = {{0.3f, 0.3f, 1.3f, 0.4f}, {0.5f, 0.7f, 0.3f, 0.9f}, {0.2f, 0.5f, 2.5f, 0.1f},
+                        {0.7f, 0.2f, 0.8f, 0.6f}};
+  Rng rng(23);
+  for (const Case& c : cases) {
+    const HairParams p = params(c.bm, c.bn, sigma_a_from_melanin(c.melanin, c.red), 2.0f);
+    const float h = float(rng.range(-1, 1));
+    const glm::vec3 wo = uniform_direction(rng);
+    const HairBCSDF bcsdf(p, h);
+    const glm::dvec3 uniform = stratified_sphere_integral(
+        400, rng, [&](const glm::vec3& wi) { return bcsdf.f(wo, wi) * bcsdf_cos(wi) * g(wi); });
+    const int n = 200000;
+    glm::dvec3 sum(0.0);
+    for (int k = 0; k < n; ++k) {
+      const auto t = bcsdf.sample_throughput(wo, {rng.uniformf(), rng.uniformf()}, {rng.uniformf(), rng.uniformf()});
+      if (t) sum += glm::dvec3(t->weight * g(t->wi));
+    }
+    const glm::dvec3 is = sum / double(n);
+    for (int ch = 0; ch < 3; ++ch) {
+      ASSERT_GT(uniform[ch], 0.01) << describe(p, h, wo);
+      EXPECT_NEAR(is[ch] / uniform[ch], 1.0, 0.05) << "channel " << ch << " " << describe(p, h, wo);
+    }
+  }
+}
+
 // --- the cheap estimate next-event estimation weighs lights with ----------------------
 
 TEST(HairBCSDF, FastEstimateFollowsFCos) {
@@ -456,6 +520,8 @@ TEST(HairBCSDF, FiniteAndNonNegativeOverExtremeInputs) {
     report(std::isfinite(s->wi.x) && std::abs(glm::length(s->wi) - 1.0f) < 1e-5f, "sample wi", p, h, wo);
     if (k % 8 == 0)  // re-evaluating is the costliest check; a sample of inputs suffices
       report(s->f == bcsdf.f(wo, s->wi) && s->pdf == bcsdf.pdf(wo, s->wi), "sample != f/pdf", p, h, wo);
+    const auto t = bcsdf.sample_throughput(wo, {rng.uniformf(), rng.uniformf()}, {rng.uniformf(), rng.uniformf()});
+    if (t) report(good(t->weight) && std::abs(glm::length(t->wi) - 1.0f) < 1e-5f, "throughput", p, h, wo);
   }
   EXPECT_GE(checked, 4000000);
   EXPECT_EQ(bad, 0) << "first: " << first_bad;

@@ -78,8 +78,9 @@ struct FibreScatter final : Scatter {
   FibreFrame ff;
   glm::vec3 wo_local;
   HairBCSDF bcsdf;
-  FibreScatter(const FibreFrame& frame, const HairParams& params, const glm::vec3& wo)
-      : ff(frame), wo_local(frame.frame.to_local(wo)), bcsdf(params, frame.h, wo_local) {}
+  bool pdf_needed;  // false: sample() weighs by lobe selection and gives no pdf (no MIS on its rays)
+  FibreScatter(const FibreFrame& frame, const HairParams& params, const glm::vec3& wo, bool pdf_needed)
+      : ff(frame), wo_local(frame.frame.to_local(wo)), bcsdf(params, frame.h, wo_local), pdf_needed(pdf_needed) {}
   glm::vec3 f_cos(const glm::vec3& wi, float* pdf) const override {
     const glm::vec3 wl = ff.frame.to_local(wi);
     return bcsdf.f_pdf(wo_local, wl, pdf) * bcsdf_cos(wl);
@@ -110,6 +111,14 @@ struct FibreScatter final : Scatter {
     for (std::size_t i = 0; i < n; ++i) w[i] = kLumR * r[i] * fr[i] + kLumG * g[i] * fg[i] + kLumB * b[i] * fb[i];
   }
   bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const override {
+    if (!pdf_needed) {
+      const auto s = bcsdf.sample_throughput(wo_local, {u.x, u.y}, {u.z, u.w});
+      if (!s) return false;
+      *wi = glm::normalize(ff.frame.to_world(s->wi));
+      *pdf = 0;
+      *weight = s->weight;
+      return true;
+    }
     const auto s = bcsdf.sample(wo_local, {u.x, u.y}, {u.z, u.w});
     if (!s || !(s->pdf > 0)) return false;
     *wi = glm::normalize(ff.frame.to_world(s->wi));
@@ -236,7 +245,8 @@ FibreFrame PathIntegrator::fibre_frame_at(const SurfaceHit& hit, const glm::vec3
 
 PathIntegrator::PathIntegrator(const Scene& scene, const LightSet& lights, const FibreMaterial& material,
                                const IntegratorSettings& settings)
-    : scene_(scene), lights_(lights), material_(material), settings_(settings) {
+    : scene_(scene), lights_(lights), material_(material), settings_(settings),
+      bsdf_pdf_needed_(lights.hit_by_sampled_rays()) {
   if (settings_.light_picks < 1) throw Error("light picks per vertex must be at least 1");
   if (scene_.options().mode == ShadingMode::Farfield) {
     // One table per vane and barb class, for the material where the feather's
@@ -290,7 +300,9 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
     } else if (hit.kind == HitKind::Backdrop) {
       bsdf = &diffuse.emplace(safe_normalize(hit.ng), wo, scene_.options().backdrop.albedo);
     } else {
-      bsdf = &fibre.emplace(fibre_frame_at(hit, wo), material_.at(hit.p, scene_.structure_coverage(hit), scene_.ribbon_layers(hit)), wo);
+      bsdf = &fibre.emplace(fibre_frame_at(hit, wo),
+                            material_.at(hit.p, scene_.structure_coverage(hit), scene_.ribbon_layers(hit)), wo,
+                            bsdf_pdf_needed_);
     }
 
     // Next-event estimation (settings_.light_pick): one light chosen uniformly or

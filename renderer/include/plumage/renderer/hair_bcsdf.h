@@ -65,6 +65,12 @@ struct BCSDFSample {
   float pdf;        // solid-angle pdf of wi
 };
 
+// A sampled direction and its throughput weight alone (no pdf): HairBCSDF::sample_throughput.
+struct BCSDFThroughput {
+  glm::vec3 wi;      // sampled incident direction (local frame)
+  glm::vec3 weight;  // the estimator's f cos / pdf for it
+};
+
 class HairBCSDF {
  public:
   // Validates params (see validate()) and throws plumage::Error for a non-finite h;
@@ -80,6 +86,13 @@ class HairBCSDF {
   // Samples wi given wo with 4 uniform numbers in [0,1); returns nullopt only when
   // no direction can be produced. f and pdf are exactly f(wo, wi) and pdf(wo, wi).
   std::optional<BCSDFSample> sample(const glm::vec3& wo, const glm::vec2& u0, const glm::vec2& u1) const;
+  // The same directions as sample() for the same numbers, weighed by the lobe-selection
+  // estimator instead: A_p / w_p for the lobe p that was sampled (w_p its selection
+  // probability), no evaluation of f and no pdf. Unbiased like sample()'s f cos / pdf
+  // and equal to it in the mean over RGB (both are sum_p mean(A_p) there); cheaper, and for
+  // paths whose BCSDF-sampled rays need no MIS weight (docs/hair-bcsdf.md, "Sampling").
+  std::optional<BCSDFThroughput> sample_throughput(const glm::vec3& wo, const glm::vec2& u0,
+                                                   const glm::vec2& u1) const;
   float pdf(const glm::vec3& wo, const glm::vec3& wi) const;
   // f(wo, wi) and, in *pdf, pdf(wo, wi), from one evaluation.
   glm::vec3 f_pdf(const glm::vec3& wo, const glm::vec3& wi, float* pdf) const;
@@ -117,6 +130,13 @@ class HairBCSDF {
   // attenuation() for wo: the one computed at construction when wo is that one.
   Attenuation attenuation_for(const glm::vec3& wo, double sin_o, double cos_o) const;
   Eval eval(const glm::vec3& wo, const glm::vec3& wi) const;
+  struct LobeDirection {
+    glm::vec3 wi;
+    int lobe;
+  };
+  // Sampling's direction and the lobe it came from; nullopt when no lobe carries light.
+  std::optional<LobeDirection> sample_direction(const glm::vec3& wo, const Attenuation& at, const glm::vec2& u0,
+                                                const glm::vec2& u1) const;
   Eval eval(const glm::vec3& wo, const glm::vec3& wi, const Attenuation& at) const;
 
   // Precomputed per-instance terms (double: Mp subtracts terms of size 1/v).

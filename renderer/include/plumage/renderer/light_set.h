@@ -102,6 +102,10 @@ class LightSet {
   // of a fibre) do at least as well as uniform ones on the sphere, so that light is
   // left to BCSDF sampling alone (docs/rendering.md, "Integrator").
   std::size_t sampled_count() const { return env_ && env_->is_constant() ? count() - 1 : count(); }
+  // Whether a ray sampled by such a scatterer can reach a light that next-event
+  // estimation samples too (a sphere, a varying environment), so that MIS needs the
+  // ray's pdf. Directional lights cannot be hit; a constant environment is not sampled.
+  bool hit_by_sampled_rays() const { return !spheres_.empty() || (env_ && !env_->is_constant()); }
 
   // A direction on light i as seen from p, sampled with u; pdf excludes the choice of light.
   std::optional<LightSample> sample(std::size_t i, const glm::vec3& p, const glm::vec2& u) const;

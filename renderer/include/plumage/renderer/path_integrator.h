@@ -53,6 +53,7 @@ class PathIntegrator {
   const LightSet& lights_;
   const FibreMaterial& material_;
   IntegratorSettings settings_;
+  bool bsdf_pdf_needed_;  // MIS weighs BCSDF-sampled rays that reach a light (LightSet::hit_by_sampled_rays)
   std::vector<std::shared_ptr<const FarfieldModel>> farfield_[2];  // farfield mode: left, right vane, per class
 };
 
