@@ -392,3 +392,40 @@ TEST(AnalysisSheet, SmallFeathersInARowAreNotText) {
     for (const glm::dvec2& p : f.outline_px) EXPECT_LT(p.y, 560) << "feather " << f.id << " reaches the letters";
   fs::remove_all(dir);
 }
+
+// A region near the smallest kept is judged by its pixel count (the polygon through
+// its boundary pixels' centres leaves out half of each, a fifth of a region a few
+// pixels wide): on a 520 x 500 photo (floor 0.03 %, 78 px) a compact dark blob is a
+// feather, a ring of ink drawn 1-2 px thick with as many pixels inside its outline is
+// print (its strokes do not survive an opening 3 px across).
+TEST(AnalysisSheet, SmallestFeathersCountByPixelsAndThinPrintIsNot) {
+  const fs::path dir = sheet_dir("smallest");
+  SyntheticFeather big;
+  big.width = 520, big.height = 500;  // floor 78 px
+  big.calamus = {40, 200}, big.dir_deg = 0, big.length = 300, big.w_left = big.w_right = 22;
+  Image img = big.draw();
+  const glm::vec3 brown(srgb_to_linear(0.25f), srgb_to_linear(0.18f), srgb_to_linear(0.12f));
+  const glm::dvec2 blob(420, 80), ring(420, 320);
+  // Both have a 73 px polygon and 88 px inside it, under and over the floor.
+  const double kRingOut = 4.4, kRingIn = 3.1;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const glm::dvec2 p(x + 0.5, y + 0.5);
+      const glm::dvec2 e = (p - blob) / glm::dvec2(5.6, 3.4);
+      const double r = glm::length(p - ring);
+      if (glm::dot(e, e) <= 1.0) img.set_rgb(x, y, brown);
+      if (r <= kRingOut && r >= kRingIn) img.set_rgb(x, y, glm::vec3(srgb_to_linear(0.05f)));
+    }
+  write_image(dir / "smallest.png", img);
+  const PhotoAnalysis A = analyze_photo(dir / "smallest.png", AnalyzeOptions{});
+  const auto holds = [](const FeatherLayout& f, const glm::dvec2& p) {
+    const auto& b = f.bbox_px;
+    return p.x >= b[0] && p.x <= b[0] + b[2] && p.y >= b[1] && p.y <= b[1] + b[3];
+  };
+  int blobs = 0, rings = 0;
+  for (const FeatherLayout& f : A.layout.feathers) blobs += holds(f, blob), rings += holds(f, ring);
+  EXPECT_EQ(A.layout.feathers.size(), 2u);
+  EXPECT_EQ(blobs, 1) << "the blob is a feather";
+  EXPECT_EQ(rings, 0) << "the thin ring is print";
+  fs::remove_all(dir);
+}

@@ -566,7 +566,8 @@ std::vector<std::vector<cv::Point>> label_contours(const cv::Mat& labels, const 
 
 namespace {
 
-// Regions under kMinAreaShare of the photo, and under kMinAreaPx, are specks.
+// Regions under kMinAreaShare of the photo, and under kMinAreaPx, are specks; the
+// area is the pixel count inside the outline, not its polygon (segment_feathers).
 constexpr double kMinAreaPx = 60.0, kMinAreaShare = 3e-4;
 
 // Writing is drawn in strokes far thinner than the letters are tall: an
@@ -577,14 +578,14 @@ constexpr double kMinAreaPx = 60.0, kMinAreaShare = 3e-4;
 // a row like a word (peregrine and robin sheets): 89-97 %. Text lines run across the photo, so the height
 // is the box's, and a letter "l" is as thin across as its stroke.
 constexpr double kStrokeDisc = 0.5, kStrokeSurvives = 0.5;
-bool is_strokes(const cv::Mat& found, const Component& mark) {
+bool is_strokes(const cv::Mat& found, const Component& mark, int disc = 0) {
   cv::Mat m = cv::Mat::zeros(mark.bbox.size(), CV_8U);
   cv::drawContours(m, std::vector<std::vector<cv::Point>>{mark.contour}, 0, cv::Scalar(255), cv::FILLED,
                    cv::LINE_8, cv::noArray(), 0, -mark.bbox.tl());
   m &= found(mark.bbox);
   const int pixels = cv::countNonZero(m);
   if (pixels == 0) return true;
-  const int d = 2 * int(std::lround(0.5 * kStrokeDisc * mark.bbox.height)) + 1;
+  const int d = disc > 0 ? disc : 2 * int(std::lround(0.5 * kStrokeDisc * mark.bbox.height)) + 1;
   cv::Mat opened;
   cv::morphologyEx(m, opened, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(d, d)),
                    cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
@@ -607,6 +608,7 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   std::vector<cv::Mat> ch;
   cv::split(diff, ch);
   cv::Mat dist = cv::max(cv::max(ch[0], ch[1]), ch[2]);
+  const cv::Mat sharp = dist.clone();  // before the blur: the strokes of small print stay apart
   cv::GaussianBlur(dist, dist, cv::Size(5, 5), 1.0);
 
   cv::Mat bin;
@@ -664,10 +666,22 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   std::vector<Component> kept;
   std::vector<cv::Rect> marks;  // everything that could be a letter, for text lines
   double largest = 0;
+  std::vector<char> marginal;  // kept on its pixel count, its polygon under min_area
   for (auto& c : contours) {
     const double area = cv::contourArea(c);
     if (area >= 12) marks.push_back(cv::boundingRect(c));
-    if (area < min_area) continue;
+    bool small = false;
+    if (area < min_area) {
+      // The polygon through the boundary pixels' centres leaves out half of every
+      // boundary pixel: on a region a few pixels wide that is a fifth of it.
+      const cv::Rect r = cv::boundingRect(c);
+      if (double(r.area()) < min_area) continue;
+      cv::Mat m = cv::Mat::zeros(r.size(), CV_8U);
+      cv::drawContours(m, std::vector<std::vector<cv::Point>>{c}, 0, cv::Scalar(255), cv::FILLED, cv::LINE_8,
+                       cv::noArray(), 0, -r.tl());
+      if (cv::countNonZero(m) < min_area) continue;
+      small = true;
+    }
     const cv::RotatedRect rr = cv::minAreaRect(c);
     const double len = std::max(rr.size.width, rr.size.height);
     if (area / std::max(len, 1.0) < 3.0) continue;  // a line, not a vane
@@ -677,6 +691,7 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
     comp.contour = std::move(c);
     largest = std::max(largest, area);
     kept.push_back(std::move(comp));
+    marginal.push_back(small);
   }
   // Letters and labels: far smaller than the feathers on the same sheet, and
   // written in lines. A region is text when it is small (under kMinRelativeArea
@@ -684,12 +699,16 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   // stands in a line of at least kTextRun marks (any region, however small) of about its height
   // (within a factor 2) that overlap it vertically by half the smaller height,
   // each within 1.5 heights of the next: a title, a word of handwriting, and is
-  // drawn in strokes (is_strokes). Small feathers on a sheet are stacked in
+  // drawn in strokes (is_strokes); or, for a region kept only on its pixel
+  // count (marginal), when the colour distance before the blur draws it in strokes
+  // 1-2 px wide (an axis label "28" on the spoonbill sheet; the blur had joined
+  // them into a blob). Small feathers on a sheet are stacked in
   // columns, or are taller than that in rows; a row of small feathers beside a
   // larger one stands like a word, but its vanes are not strokes.
   constexpr double kMinRelativeArea = 0.005, kTextHeight = 0.06;
   constexpr int kTextRun = 3;
   std::vector<char> text(kept.size(), 0);
+  const cv::Mat sharp_found = sharp >= seg.threshold;
   for (std::size_t i = 0; i < kept.size(); ++i) {
     const cv::Rect& a = kept[i].bbox;
     if (a.height > kTextHeight * bgr.rows) continue;
@@ -714,7 +733,7 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
         }
       }
     }
-    text[i] = run >= kTextRun && is_strokes(found, kept[i]);
+    text[i] = (run >= kTextRun && is_strokes(found, kept[i])) || (marginal[i] && is_strokes(sharp_found, kept[i], 3));
   }
   for (std::size_t i = 0; i < kept.size(); ++i) {
     Component& comp = kept[i];
