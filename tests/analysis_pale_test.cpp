@@ -239,3 +239,31 @@ TEST(AnalysisPale, CardJustLighterThanTheCardIsNoFeather) {
   }
   fs::remove_all(dir);
 }
+
+// A buff feather with two dark spots on a mid-grey card, the buff lighter than the
+// card by less than it stands out by colour, the spots joined only by the dark
+// rachis between them: by colour two cores at a neck that no cut separates, with
+// its pale parts one solid oval. One spotted feather (the peregrine sheet's body
+// feathers), not two that touch (it is reported as such without the rule).
+TEST(AnalysisPale, SpottedFeatherIsOneFeather) {
+  const fs::path dir = pale_dir("spotted");
+  // An oval 300 x 90 px; spots 80 x 50 px, their centres 70 px either side of its
+  // middle; a rachis 3 px wide between them.
+  const double cx = 300, cy = 300, along = 150, across = 45, spot_a = 40, spot_b = 25, gap = 70;
+  const Paint spotted = [=](double x, double y, glm::vec3& c) {
+    const double u = (x - cx) / across, v = (y - cy) / along;
+    if (u * u + v * v > 1) return false;
+    c = glm::vec3(0.71f, 0.70f, 0.67f);  // buff, a little lighter than the card
+    for (double sy : {cy - gap, cy + gap}) {
+      const double p = (x - cx) / spot_b, q = (y - sy) / spot_a;
+      if (p * p + q * q <= 1) c = glm::vec3(0.22f, 0.17f, 0.12f);
+    }
+    if (std::fabs(x - cx) <= 1.6 && std::fabs(y - cy) <= gap) c = glm::vec3(0.22f, 0.17f, 0.12f);
+    return true;
+  };
+  write_image(dir / "spotted.png", draw_card(600, 600, 0.62f, 0.05f, 0.015f, {spotted}));
+  const PhotoAnalysis A = analyze_photo(dir / "spotted.png", AnalyzeOptions{});
+  EXPECT_EQ(A.layout.feathers.size(), 1u);
+  EXPECT_TRUE(A.layout.skipped.empty());
+  fs::remove_all(dir);
+}

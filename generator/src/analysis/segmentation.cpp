@@ -749,6 +749,10 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
     // its part that stands out by colour, as without them: white tips that
     // touch would otherwise join two feathers' cores. The pale parts then go
     // with the piece whose flood reaches them first.
+    constexpr double kSpottedSolidity = 0.85, kSpottedColour = 0.7;
+    const int whole_cores = cores.n;
+    const double whole_solidity = comp.solidity;
+    bool judged_by_colour = false;
     const cv::Mat colour_part = comp.mask & bin(comp.bbox);
     const int colour_pixels = cv::countNonZero(colour_part);
     if (colour_pixels == 0 && comp.touches_border) continue;  // a lighter strip along a scan's edge
@@ -769,6 +773,7 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
         cores.n = judged.n;
         comp.cores = judged.n;
         comp.solidity = colour.solidity;
+        judged_by_colour = true;
       }
     }
     if (comp.cores > 1) {
@@ -778,6 +783,14 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
         for (Component& c : pieces) seg.feathers.push_back(std::move(c));
         continue;
       }
+    }
+    if (judged_by_colour && comp.cores > 1 && whole_cores == 1 && whole_solidity >= kSpottedSolidity &&
+        colour_pixels < kSpottedColour * cv::countNonZero(comp.mask)) {
+      // Coloured patches that no cut separates, covering a minority of a region
+      // that with its pale parts is one solid core: one spotted feather (the
+      // peregrine sheet's buff-spotted body feathers), not several that touch.
+      comp.cores = 1;
+      comp.solidity = whole_solidity;
     }
     comp.unseparated = comp.cores > 1 || comp.solidity < kMinSolidity;
     seg.feathers.push_back(std::move(comp));
