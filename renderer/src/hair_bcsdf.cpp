@@ -416,9 +416,12 @@ void HairBCSDF::f_cos_estimate(const glm::vec3& wo, std::size_t n, const float* 
 
 // Chiang et al. 2016 §4.3: pick a lobe by its weight, sample theta_i from its Mp and
 // the azimuth from its trimmed logistic (uniform for the residual).
-std::optional<HairBCSDF::LobeDirection> HairBCSDF::sample_direction(const glm::vec3& wo, const Attenuation& at,
-                                                                    const glm::vec2& u0, const glm::vec2& u1) const {
+bool HairBCSDF::sample_direction(const glm::vec3& wo, const glm::vec2& u0, const glm::vec2& u1,
+                                 LobeDirection& d) const {
+  if (!finite(wo)) return false;
   const Longitude o = longitude(wo);
+  d.at = attenuation_for(wo, o.sin, o.cos);
+  const Attenuation& at = d.at;
   // The last lobe with weight catches u0.x beyond a cdf that rounding left below 1.
   int p = -1;
   double cdf = 0.0;
@@ -428,7 +431,7 @@ std::optional<HairBCSDF::LobeDirection> HairBCSDF::sample_direction(const glm::v
     cdf += at.weight[q];
     if (double(u0.x) < cdf) break;
   }
-  if (p < 0) return std::nullopt;  // every lobe absorbed: no direction carries light
+  if (p < 0) return false;  // every lobe absorbed: no direction carries light
 
   double sin_op = o.sin, cos_op = o.cos;
   if (p < 3) {
@@ -443,21 +446,20 @@ std::optional<HairBCSDF::LobeDirection> HairBCSDF::sample_direction(const glm::v
   const double phi_i = azimuth(wo) + dphi;
   const glm::vec3 wi = glm::normalize(
       glm::vec3(glm::dvec3(sin_i, cos_i * std::sin(phi_i), cos_i * std::cos(phi_i))));
-  if (!finite(wi)) return std::nullopt;
-  return LobeDirection{wi, p};
+  if (!finite(wi)) return false;
+  d.wi = wi;
+  d.lobe = p;
+  return true;
 }
 
 std::optional<BCSDFSample> HairBCSDF::sample(const glm::vec3& wo, const glm::vec2& u0,
                                              const glm::vec2& u1) const {
-  if (!finite(wo)) return std::nullopt;
-  const Longitude o = longitude(wo);
-  const Attenuation at = attenuation_for(wo, o.sin, o.cos);
-  const auto d = sample_direction(wo, at, u0, u1);
-  if (!d) return std::nullopt;
+  LobeDirection d;
+  if (!sample_direction(wo, u0, u1, d)) return std::nullopt;
   // Re-evaluate at the float direction returned so f and pdf match f() and pdf() exactly.
-  const Eval e = eval(wo, d->wi, at);
+  const Eval e = eval(wo, d.wi, d.at);
   if (!(e.pdf > 0.0)) return std::nullopt;
-  return BCSDFSample{d->wi, glm::vec3(e.f), static_cast<float>(e.pdf)};
+  return BCSDFSample{d.wi, glm::vec3(e.f), static_cast<float>(e.pdf)};
 }
 
 // The lobe-selection estimator: lobe p is chosen with probability w_p and its
@@ -465,12 +467,10 @@ std::optional<BCSDFSample> HairBCSDF::sample(const glm::vec3& wo, const glm::vec
 // E[A_p / w_p g(wi)] = sum_p int A_p Mp Np g dwi = int f cos g dwi.
 std::optional<BCSDFThroughput> HairBCSDF::sample_throughput(const glm::vec3& wo, const glm::vec2& u0,
                                                             const glm::vec2& u1) const {
-  if (!finite(wo)) return std::nullopt;
-  const Longitude o = longitude(wo);
-  const Attenuation at = attenuation_for(wo, o.sin, o.cos);
-  const auto d = sample_direction(wo, at, u0, u1);
-  if (!d || !(std::fabs(d->wi.x) < 1.0f)) return std::nullopt;  // f has no cos(theta_i) to stand on at the tangent
-  return BCSDFThroughput{d->wi, glm::vec3(at.A[d->lobe] / at.weight[d->lobe])};
+  LobeDirection d;
+  if (!sample_direction(wo, u0, u1, d)) return std::nullopt;
+  if (!(std::fabs(d.wi.x) < 1.0f)) return std::nullopt;  // f has no cos(theta_i) to stand on at the tangent
+  return BCSDFThroughput{d.wi, glm::vec3(d.at.A[d.lobe] / d.at.weight[d.lobe])};
 }
 
 }  // namespace plumage

@@ -57,6 +57,14 @@ std::vector<cv::Point> largest_contour(const cv::Mat& mask, cv::Point offset) {
   }));
 }
 
+// The region inside `contour` (image coordinates), filled, as a mask over `box`.
+cv::Mat filled(const std::vector<cv::Point>& contour, const cv::Rect& box) {
+  cv::Mat m = cv::Mat::zeros(box.size(), CV_8U);
+  cv::drawContours(m, std::vector<std::vector<cv::Point>>{contour}, 0, cv::Scalar(255), cv::FILLED, cv::LINE_8,
+                   cv::noArray(), 0, -box.tl());
+  return m;
+}
+
 // Where barbs end at the vane's edge the background reaches in between their
 // tips, a few pixels wide and far deep where they meet the edge at a slant. The
 // vane is one surface, so those notches are closed: a closing whose disc is
@@ -76,9 +84,7 @@ void close_barb_gaps(Component& comp) {
   if (outline.empty()) return;
   comp.contour = std::move(outline);
   comp.area = cv::contourArea(comp.contour);
-  comp.mask.setTo(0);
-  cv::drawContours(comp.mask, std::vector<std::vector<cv::Point>>{comp.contour}, 0, cv::Scalar(255),
-                   cv::FILLED, cv::LINE_8, cv::noArray(), 0, -comp.bbox.tl());
+  comp.mask = filled(comp.contour, comp.bbox);
 }
 
 // Feathers that touch or overlap make one blob. A feather's vane is one
@@ -578,16 +584,17 @@ constexpr double kMinAreaPx = 60.0, kMinAreaShare = 3e-4;
 // a row like a word (peregrine and robin sheets): 89-97 %. Text lines run across the photo, so the height
 // is the box's, and a letter "l" is as thin across as its stroke.
 constexpr double kStrokeDisc = 0.5, kStrokeSurvives = 0.5;
-bool is_strokes(const cv::Mat& found, const Component& mark, int disc = 0) {
-  cv::Mat m = cv::Mat::zeros(mark.bbox.size(), CV_8U);
-  cv::drawContours(m, std::vector<std::vector<cv::Point>>{mark.contour}, 0, cv::Scalar(255), cv::FILLED,
-                   cv::LINE_8, cv::noArray(), 0, -mark.bbox.tl());
+// `disc`: the opening's diameter in pixels, letter_disc(mark) for a letter; print
+// too small to tell by its height, kPrintDisc.
+constexpr int kPrintDisc = 3;
+int letter_disc(const Component& mark) { return 2 * int(std::lround(0.5 * kStrokeDisc * mark.bbox.height)) + 1; }
+bool is_strokes(const cv::Mat& found, const Component& mark, int disc) {
+  cv::Mat m = filled(mark.contour, mark.bbox);
   m &= found(mark.bbox);
   const int pixels = cv::countNonZero(m);
   if (pixels == 0) return true;
-  const int d = disc > 0 ? disc : 2 * int(std::lround(0.5 * kStrokeDisc * mark.bbox.height)) + 1;
   cv::Mat opened;
-  cv::morphologyEx(m, opened, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(d, d)),
+  cv::morphologyEx(m, opened, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(disc, disc)),
                    cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
   return cv::countNonZero(opened) < kStrokeSurvives * pixels;
 }
@@ -607,9 +614,9 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   cv::absdiff(bgr, cv::Scalar(bg[0], bg[1], bg[2]), diff);
   std::vector<cv::Mat> ch;
   cv::split(diff, ch);
-  cv::Mat dist = cv::max(cv::max(ch[0], ch[1]), ch[2]);
-  const cv::Mat sharp = dist.clone();  // before the blur: the strokes of small print stay apart
-  cv::GaussianBlur(dist, dist, cv::Size(5, 5), 1.0);
+  const cv::Mat sharp = cv::max(cv::max(ch[0], ch[1]), ch[2]);  // unblurred: small print's strokes stay apart
+  cv::Mat dist;
+  cv::GaussianBlur(sharp, dist, cv::Size(5, 5), 1.0);
 
   cv::Mat bin;
   const double otsu = cv::threshold(dist, bin, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
@@ -675,11 +682,7 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
       // The polygon through the boundary pixels' centres leaves out half of every
       // boundary pixel: on a region a few pixels wide that is a fifth of it.
       const cv::Rect r = cv::boundingRect(c);
-      if (double(r.area()) < min_area) continue;
-      cv::Mat m = cv::Mat::zeros(r.size(), CV_8U);
-      cv::drawContours(m, std::vector<std::vector<cv::Point>>{c}, 0, cv::Scalar(255), cv::FILLED, cv::LINE_8,
-                       cv::noArray(), 0, -r.tl());
-      if (cv::countNonZero(m) < min_area) continue;
+      if (double(r.area()) < min_area || cv::countNonZero(filled(c, r)) < min_area) continue;
       small = true;
     }
     const cv::RotatedRect rr = cv::minAreaRect(c);
@@ -708,7 +711,8 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   constexpr double kMinRelativeArea = 0.005, kTextHeight = 0.06;
   constexpr int kTextRun = 3;
   std::vector<char> text(kept.size(), 0);
-  const cv::Mat sharp_found = sharp >= seg.threshold;
+  cv::Mat sharp_found;  // only where a region was kept on its pixel count
+  if (std::find(marginal.begin(), marginal.end(), 1) != marginal.end()) sharp_found = sharp >= seg.threshold;
   for (std::size_t i = 0; i < kept.size(); ++i) {
     const cv::Rect& a = kept[i].bbox;
     if (a.height > kTextHeight * bgr.rows) continue;
@@ -733,14 +737,13 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
         }
       }
     }
-    text[i] = (run >= kTextRun && is_strokes(found, kept[i])) || (marginal[i] && is_strokes(sharp_found, kept[i], 3));
+    text[i] = (run >= kTextRun && is_strokes(found, kept[i], letter_disc(kept[i]))) ||
+              (marginal[i] && is_strokes(sharp_found, kept[i], kPrintDisc));
   }
   for (std::size_t i = 0; i < kept.size(); ++i) {
     Component& comp = kept[i];
     if (comp.area < kMinRelativeArea * largest || text[i]) continue;
-    comp.mask = cv::Mat::zeros(comp.bbox.size(), CV_8U);
-    cv::drawContours(comp.mask, std::vector<std::vector<cv::Point>>{comp.contour}, 0,
-                     cv::Scalar(255), cv::FILLED, cv::LINE_8, cv::noArray(), 0, -comp.bbox.tl());
+    comp.mask = filled(comp.contour, comp.bbox);
     close_barb_gaps(comp);
     Cores cores = find_cores(comp.mask);
     comp.cores = cores.n;
@@ -754,17 +757,15 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
     const double whole_solidity = comp.solidity;
     bool judged_by_colour = false;
     const cv::Mat colour_part = comp.mask & bin(comp.bbox);
-    const int colour_pixels = cv::countNonZero(colour_part);
+    const int colour_pixels = cv::countNonZero(colour_part), region_pixels = cv::countNonZero(comp.mask);
     if (colour_pixels == 0 && comp.touches_border) continue;  // a lighter strip along a scan's edge
-    if (colour_pixels > 0 && colour_pixels < cv::countNonZero(comp.mask)) {
+    if (colour_pixels > 0 && colour_pixels < region_pixels) {
       Component colour;
       colour.bbox = comp.bbox;
       colour.contour = largest_contour(colour_part, comp.bbox.tl());
       if (!colour.contour.empty()) {
         // Filled, as a region by colour alone is (its holes are no background).
-        colour.mask = cv::Mat::zeros(comp.bbox.size(), CV_8U);
-        cv::drawContours(colour.mask, std::vector<std::vector<cv::Point>>{colour.contour}, 0, cv::Scalar(255),
-                         cv::FILLED, cv::LINE_8, cv::noArray(), 0, -comp.bbox.tl());
+        colour.mask = filled(colour.contour, comp.bbox);
         colour.area = cv::contourArea(colour.contour);
         close_barb_gaps(colour);
         measure_shape(colour, bgr.size());
@@ -785,7 +786,7 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
       }
     }
     if (judged_by_colour && comp.cores > 1 && whole_cores == 1 && whole_solidity >= kSpottedSolidity &&
-        colour_pixels < kSpottedColour * cv::countNonZero(comp.mask)) {
+        colour_pixels < kSpottedColour * region_pixels) {
       // Coloured patches that no cut separates, covering a minority of a region
       // that with its pale parts is one solid core: one spotted feather (the
       // peregrine sheet's buff-spotted body feathers), not several that touch.

@@ -133,10 +133,12 @@ class HairBCSDF {
   struct LobeDirection {
     glm::vec3 wi;
     int lobe;
+    Attenuation at;  // the attenuation for wo that chose the lobe
   };
-  // Sampling's direction and the lobe it came from; nullopt when no lobe carries light.
-  std::optional<LobeDirection> sample_direction(const glm::vec3& wo, const Attenuation& at, const glm::vec2& u0,
-                                                const glm::vec2& u1) const;
+  // Sampling's direction, the lobe it came from and the attenuation that weighed the
+  // lobes, into d (sample() and sample_throughput() share it); false for a
+  // non-finite wo and when no lobe carries light.
+  bool sample_direction(const glm::vec3& wo, const glm::vec2& u0, const glm::vec2& u1, LobeDirection& d) const;
   Eval eval(const glm::vec3& wo, const glm::vec3& wi, const Attenuation& at) const;
 
   // Precomputed per-instance terms (double: Mp subtracts terms of size 1/v).
