@@ -2,7 +2,7 @@
 // photo_view.h, fidelity.h; docs/analysis.md, "One pose" and "Fidelity"): CIE ΔE
 // 2000 against Sharma et al.'s published pairs, the crop's camera against the
 // layout's transform, silhouettes and IoU on drawn panels, and the bounds of
-// issue 12 on the pink photo and a spoonbill sheet feather (when ../shared has them).
+// issue 12 on the pink photo, a spoonbill sheet feather and a robin sheet feather (when ../shared has them).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -283,6 +283,15 @@ class PhotoFidelityBounds : public ::testing::Test {
     EXPECT_EQ(r.rc, 0) << r.output;
     return nlohmann::json::parse(read_file(dir_ / "summary.json")).at("fidelity");
   }
+  // Both render panels: silhouette IoU >= 0.85, the feather's mean colour within
+  // `colour_de` and the card within `card_de` (ΔE00) of the photo's.
+  static void expect_bounds(const nlohmann::json& f, double colour_de, double card_de) {
+    for (const char* panel : {"hair", "substructure"}) {
+      EXPECT_GE(f.at(panel).at("feather").at("silhouette_iou").get<double>(), 0.85) << panel;
+      EXPECT_LE(f.at(panel).at("feather").at("mean_colour_de2000").get<double>(), colour_de) << panel;
+      EXPECT_LE(f.at(panel).at("backdrop_de2000").get<double>(), card_de) << panel;
+    }
+  }
   fs::path dir_;
 };
 
@@ -290,13 +299,9 @@ TEST_F(PhotoFidelityBounds, PinkFeather) {
   const fs::path photo = fs::path(PLUMAGE_SHARED_DIR) / "photos" / "pink-contour-feather.jpg";
   if (!fs::exists(photo)) GTEST_SKIP() << photo << " not present";
   const nlohmann::json f = run(photo, "");
-  for (const char* panel : {"hair", "substructure"}) {
-    EXPECT_GE(f.at(panel).at("feather").at("silhouette_iou").get<double>(), 0.85) << panel;
-    EXPECT_LE(f.at(panel).at("feather").at("mean_colour_de2000").get<double>(), 8.0) << panel;
-    EXPECT_LE(f.at(panel).at("backdrop_de2000").get<double>(), 2.0) << panel;
-  }
+  expect_bounds(f, 8.0, 2.0);
   // Substructure no farther from the photo than hair (measured at this setting:
-  // hair 2.18, substructure 1.31; docs/analysis.md, "Photo-to-feather study").
+  // hair 1.87, substructure 1.51; docs/analysis.md, "Photo-to-feather study").
   EXPECT_LE(f.at("substructure").at("feather").at("mean_colour_de2000").get<double>(),
             f.at("hair").at("feather").at("mean_colour_de2000").get<double>());
 }
@@ -304,10 +309,18 @@ TEST_F(PhotoFidelityBounds, PinkFeather) {
 TEST_F(PhotoFidelityBounds, SpoonbillSheetFeather) {
   const fs::path photo = fs::path(PLUMAGE_SHARED_DIR) / "photos" / "spoonbill-wing-sheet.png";
   if (!fs::exists(photo)) GTEST_SKIP() << photo << " not present";
-  const nlohmann::json f = run(photo, "--feather 5 --grid-mm 20");
-  for (const char* panel : {"hair", "substructure"}) {
-    EXPECT_GE(f.at(panel).at("feather").at("silhouette_iou").get<double>(), 0.85) << panel;
-    // The card is the sheet's black, not a neighbouring feather's colour.
-    EXPECT_LE(f.at(panel).at("backdrop_de2000").get<double>(), 3.0) << panel;
-  }
+  // The colour is far off on black (docs/analysis.md); the card is the sheet's
+  // black, not a neighbouring feather's colour.
+  expect_bounds(run(photo, "--feather 5 --grid-mm 20"), 1e9, 3.0);
+}
+
+TEST_F(PhotoFidelityBounds, DarkFeatherOnAGreyCard) {
+  // Robin feather 41: narrow dark vanes (1-3 mm) on a mid-grey card. With the card
+  // four rachis radii under the barbs the dome lit it from the side under them and
+  // the vane came out too light (IoU 0.80 / 0.84 at the defaults); with the card
+  // under the vane (BackdropPlacement::Vane) and the correction fitted there, 0.88 /
+  // 0.91 (at this setting 0.879 / 0.869, colour dE00 3.2 / 4.2, card 0.03).
+  const fs::path photo = fs::path(PLUMAGE_SHARED_DIR) / "photos" / "european-robin-feather-sheet.jpg";
+  if (!fs::exists(photo)) GTEST_SKIP() << photo << " not present";
+  expect_bounds(run(photo, "--feather 41"), 8.0, 2.0);
 }

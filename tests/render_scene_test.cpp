@@ -107,6 +107,32 @@ TEST(RenderScene, BackdropLiesUnderTheFeather) {
   EXPECT_FALSE(scene.intersect(scene.spawn(hit, {0, 0, 1}), up));
 }
 
+TEST(RenderScene, BackdropUnderTheVaneLiesOnItsBarbs) {
+  // A rachis 1 mm thick beside barbs 0.2 mm wide (W) in the plane z = 0. Under the
+  // feather the card lies four rachis radii under the rachis; under the vane, four
+  // barb radii (2 W) under the barbs, whatever the rachis; a feather without barbs
+  // falls back to its lowest point.
+  Feather f;
+  f.curves.push_back(straight_curve(CurveKind::Shaft, {0, 0, 0}, 20, 0.5f));
+  for (float y : {-2.0f, -1.0f, 1.0f, 2.0f}) f.curves.push_back(straight_curve(CurveKind::Barb, {5, y, 0}, 4, 0.05f));
+  f.left.ribbon_width = f.right.ribbon_width = 0.2f;
+  SceneOptions so;
+  so.backdrop.enabled = true;
+  EXPECT_NEAR(Scene(f, so).backdrop_z(), -0.5f - 4 * 0.5f, 1e-5f);
+  so.backdrop.placement = BackdropPlacement::Vane;
+  const Scene vane(f, so);
+  EXPECT_NEAR(vane.backdrop_z(), -0.1f - 4 * 0.1f, 1e-5f);
+  SurfaceHit hit;
+  ASSERT_TRUE(vane.intersect(down_ray(5.0f, 1.0f, 10.0f), hit));
+  EXPECT_EQ(hit.kind, HitKind::Barb);
+  ASSERT_TRUE(vane.intersect(down_ray(5.0f, 1.5f, 10.0f), hit));  // between barbs 1 mm apart
+  EXPECT_EQ(hit.kind, HitKind::Backdrop);
+  EXPECT_NEAR(hit.p.z, vane.backdrop_z(), 1e-4f);
+  Feather bare;
+  bare.curves.push_back(f.curves[0]);
+  EXPECT_NEAR(Scene(bare, so).backdrop_z(), -0.5f - 4 * 0.5f, 1e-5f);
+}
+
 TEST(RenderScene, RefusesBadFeathers) {
   EXPECT_THROW(Scene(Feather{}, {}), Error);
   Feather short_curve;

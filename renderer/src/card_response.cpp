@@ -7,13 +7,63 @@
 
 namespace plumage {
 
-CardResponse card_response(ShadingMode mode) {
-  // Fitted to renders of the closed vane of RenderMaterial.CardResponseModelsAClosedVane
-  // (cards 0.1 and 0.8, A = 0.02, 0.15, 0.4, 0.9, green channel, 64 spp, 32 x 32;
-  // docs/hair-bcsdf.md). Substructure's flat in-vane barbules reflect more sky.
-  if (mode == ShadingMode::Hair) return {0.024f, 0.060f, 0.020f, 0.80f};
-  return {0.040f, 0.060f, 0.018f, 0.84f};
+namespace {
+
+// Fitted by RenderMaterial.CardResponseFit (scripts/fit_card_response.sh): the
+// closed vane rendered over cards 0.9, 0.5, 0.25 and 0.1 at each albedo, green
+// channel, least squares in (1, 1/c, c).
+constexpr CardResponse kHair{{{
+    // clang-format off
+    {0.00f, 0.0006f, 0.0242f, 0.0001f},
+    {0.02f, 0.0291f, 0.0279f, 0.0024f},
+    {0.05f, 0.0525f, 0.0306f, 0.0055f},
+    {0.10f, 0.0893f, 0.0343f, 0.0074f},
+    {0.15f, 0.1222f, 0.0377f, 0.0111f},
+    {0.20f, 0.1564f, 0.0408f, 0.0131f},
+    {0.30f, 0.2170f, 0.0468f, 0.0233f},
+    {0.40f, 0.2805f, 0.0531f, 0.0329f},
+    {0.50f, 0.3464f, 0.0591f, 0.0398f},
+    {0.70f, 0.4700f, 0.0730f, 0.0721f},
+    {0.90f, 0.6033f, 0.0893f, 0.1136f},
+    {1.00f, 0.6825f, 0.0997f, 0.1426f},
+    // clang-format on
+}}};
+
+constexpr CardResponse kSubstructure{{{
+    // clang-format off
+    {0.00f, 0.0013f, 0.0372f, 0.0003f},
+    {0.02f, 0.0255f, 0.0409f, 0.0026f},
+    {0.05f, 0.0488f, 0.0435f, 0.0043f},
+    {0.10f, 0.0846f, 0.0472f, 0.0071f},
+    {0.15f, 0.1185f, 0.0509f, 0.0098f},
+    {0.20f, 0.1541f, 0.0542f, 0.0127f},
+    {0.30f, 0.2190f, 0.0608f, 0.0218f},
+    {0.40f, 0.2896f, 0.0673f, 0.0280f},
+    {0.50f, 0.3588f, 0.0738f, 0.0381f},
+    {0.70f, 0.5056f, 0.0870f, 0.0536f},
+    {0.90f, 0.6464f, 0.1016f, 0.0837f},
+    {1.00f, 0.7220f, 0.1095f, 0.1056f},
+    // clang-format on
+}}};
+
+// The albedo at which the table's seen / card over a card c equals `target`.
+float invert(const CardResponse& r, float target, float c) {
+  float lo = r.seen(0, c);
+  if (!(target > lo)) return 0.0f;
+  for (int i = 1; i < CardResponse::kNodes; ++i) {
+    const float hi = r.seen(i, c);
+    if (target <= hi) {
+      const float t = hi > lo ? (target - lo) / (hi - lo) : 1.0f;
+      return r.nodes[i - 1].albedo + t * (r.nodes[i].albedo - r.nodes[i - 1].albedo);
+    }
+    lo = hi;
+  }
+  return 1.0f;
 }
+
+}  // namespace
+
+const CardResponse& card_response(ShadingMode mode) { return mode == ShadingMode::Hair ? kHair : kSubstructure; }
 
 glm::vec3 albedo_over_card(const glm::vec3& seen, const glm::vec3& card, const CardResponse& r) {
   // Inverted on the luminance and applied to every channel as one factor: per
@@ -26,7 +76,7 @@ glm::vec3 albedo_over_card(const glm::vec3& seen, const glm::vec3& card, const C
   }
   const float ls = luminance(s), lc = std::max(luminance(c), 1e-3f);
   if (!(ls > 0)) return glm::vec3(0.0f);
-  const float a = std::max((ls - r.reflect / lc - r.leak) / (r.scatter / lc + r.through), 0.0f);
+  const float a = invert(r, ls, lc);
   return glm::clamp(s * (a / ls), glm::vec3(0.0f), glm::vec3(1.0f));
 }
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <tbb/task_arena.h>
@@ -45,6 +46,7 @@ Scene::Scene(const Feather& feather, const SceneOptions& options)
 
   // Convex-hull property: the control points' box (grown by the radius) holds the curve.
   std::vector<Bounds3f> curve_boxes(feather_.curves.size());
+  float barb_lo_z = std::numeric_limits<float>::infinity();
   for (std::size_t i = 0; i < feather_.curves.size(); ++i) {
     const Curve& c = feather_.curves[i];
     for (const ControlPoint& cp : c.points) {
@@ -52,14 +54,19 @@ Scene::Scene(const Feather& feather, const SceneOptions& options)
       curve_boxes[i].extend(cp.p - glm::vec3(r));
       curve_boxes[i].extend(cp.p + glm::vec3(r));
       max_radius_ = std::max(max_radius_, r);
-      if (c.kind == CurveKind::Barb) max_barb_radius_ = std::max(max_barb_radius_, r);
+      if (c.kind == CurveKind::Barb) {
+        max_barb_radius_ = std::max(max_barb_radius_, r);
+        barb_lo_z = std::min(barb_lo_z, cp.p.z - r);
+      }
     }
     bounds_.extend(curve_boxes[i]);
   }
   if (options_.backdrop.enabled) {
-    // Just under the feather, but farther than any curve's near-origin culling distance.
+    // Just under the feather or its vane (backdrop.h).
     const glm::vec3 s = bounds_.size();
-    backdrop_z_ = bounds_.lo.z - std::max(4.0f * max_radius_, 1e-3f * std::max(s.x, s.y));
+    const bool vane = options_.backdrop.placement == BackdropPlacement::Vane && std::isfinite(barb_lo_z);
+    const float lo = vane ? barb_lo_z : bounds_.lo.z, r = vane ? max_barb_radius_ : max_radius_;
+    backdrop_z_ = lo - std::max(4.0f * r, 1e-3f * std::max(s.x, s.y));
   }
   // Bounds, camera framing and backdrop stay those of the whole feather, so a
   // culled scene renders the same view as the full one.

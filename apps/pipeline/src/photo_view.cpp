@@ -124,6 +124,7 @@ BackdropSpec photo_backdrop(const glm::vec3& colour, const FeatherLayout& f, con
   const float top = std::max({colour.x, colour.y, colour.z});
   BackdropSpec b;
   b.enabled = true;
+  b.placement = BackdropPlacement::Vane;  // the photographed vane lies on its card
   b.albedo = top > 0.9f ? colour * (0.9f / top) : colour;
   // The card is a square centred under the feather: make it reach every corner of the view.
   const glm::vec2 c(feather_bounds.centre().x, feather_bounds.centre().y);

@@ -77,7 +77,7 @@ class FibreMaterial {
   AlbedoMapping mapping_ = AlbedoMapping::Layer;
   glm::vec3 constant_sigma_a_;
   std::optional<glm::vec3> card_;
-  CardResponse card_response_;
+  CardResponse card_response_{};
 };
 
 }  // namespace plumage
