@@ -136,15 +136,17 @@ TEST(RenderMaterial, OneLayerOfFibresOverACardShowsItsAlbedo) {
 
 namespace {
 
-// A closed vane over a white card under a uniform sky, seen from above: parallel
+// A closed vane over a card (white unless given) under a uniform sky or the dome, seen from above: parallel
 // straight barbs 0.6 mm wide (W) whose ribbons overlap `overlap` times the gap
 // between them (1.3: one ribbon deep in 70 % of the vane, two in 30 %, as a photo
 // feather's closed vane; 2: two deep everywhere), barbules enough to cover every
 // ribbon (as close_vane makes them), and a uniform albedo *texture* (the photo's
 // area mean, which the mapping divides among the layers). The vane's colour over
 // the bare card's, per channel.
+enum class Correction { None, PhotoCard };  // ViewSpec::photo_card unset or set to the card
+enum class Light { Sky, Dome };             // a uniform sky, or the 25-LED dome with every LED on
 glm::vec3 closed_vane_over_card(ShadingMode mode, const glm::vec3& albedo, float overlap, float card_albedo = 0.8f,
-                                bool photo_card = false, bool dome = false) {
+                                Correction correction = Correction::None, Light light = Light::Sky) {
   const float W = 0.6f, gap = W / overlap;
   Feather f;
   for (int k = -40; k <= 40; ++k) f.curves.push_back(test::straight_curve(CurveKind::Barb, {0, gap * k, 0}, 9, 0.03f));
@@ -167,10 +169,10 @@ glm::vec3 closed_vane_over_card(ShadingMode mode, const glm::vec3& albedo, float
   so.backdrop = {true, glm::vec3(card_albedo), 40.0f, BackdropPlacement::Vane};
   const Scene scene(f, so);
   ViewSpec v;
-  if (photo_card) v.photo_card = so.backdrop.albedo;
+  if (correction == Correction::PhotoCard) v.photo_card = so.backdrop.albedo;
   v.width = v.height = 32;
   v.spp = 64;
-  if (!dome) {
+  if (light == Light::Sky) {
     v.lights = "none";
     v.environment = EnvironmentLight(glm::vec3(1.0f));
   }
@@ -179,7 +181,8 @@ glm::vec3 closed_vane_over_card(ShadingMode mode, const glm::vec3& albedo, float
   v.camera.up = {0, 1, 0};
   v.camera.position = {0, 0, 5};
   v.camera.look_at = {0, 0, 0};
-  const DomeRig rig = dome ? read_dome_rig(std::string(PLUMAGE_DATA_DIR) + "/rigs/dome25.json") : DomeRig{};
+  static const DomeRig dome = read_dome_rig(std::string(PLUMAGE_DATA_DIR) + "/rigs/dome25.json"), none;
+  const DomeRig& rig = light == Light::Dome ? dome : none;
   const Image layer = render_view(scene, rig, v);
   v.camera.position = {15, 15, 5};  // bare card beside the vane
   v.camera.look_at = {15, 15, 0};
@@ -248,10 +251,10 @@ TEST(RenderMaterial, CardResponseModelsAClosedVane) {
   for (ShadingMode mode : {ShadingMode::Hair, ShadingMode::Substructure})
     for (float card : {0.6f, 0.3f})
       for (float a : {0.17f, 0.45f}) {
-        const float seen = closed_vane_over_card(mode, glm::vec3(a), 1.3f, card, true, true).y;
+        const float seen = closed_vane_over_card(mode, glm::vec3(a), 1.3f, card, Correction::PhotoCard, Light::Dome).y;
         EXPECT_NEAR(seen, a, 0.01f + 0.03f * a) << to_string(mode) << ", card " << card << ", albedo " << a;
       }
-  const float uncorrected = closed_vane_over_card(ShadingMode::Hair, glm::vec3(0.15f), 1.3f, 0.25f, false, true).y;
+  const float uncorrected = closed_vane_over_card(ShadingMode::Hair, glm::vec3(0.15f), 1.3f, 0.25f, Correction::None, Light::Dome).y;
   EXPECT_GT(uncorrected, 0.15f + 0.01f + 0.03f * 0.15f);
   // The inversion itself: what black fibres show maps to 0, what white ones show to
   // 1, a node's own seen / card to its albedo, out-of-range and non-finite input stays
@@ -302,7 +305,7 @@ TEST(RenderMaterial, CardResponseFit) {
       float seen[4];
       for (int k = 0; k < 4; ++k) {
         const double c = cards[k], x[3] = {1.0, 1.0 / c, c};
-        seen[k] = closed_vane_over_card(mode, glm::vec3(node.albedo), 1.3f, cards[k], false, true).y;
+        seen[k] = closed_vane_over_card(mode, glm::vec3(node.albedo), 1.3f, cards[k], Correction::None, Light::Dome).y;
         for (int i = 0; i < 3; ++i) {
           for (int j = 0; j < 3; ++j) m[i][j] += x[i] * x[j];
           m[i][3] += x[i] * seen[k];

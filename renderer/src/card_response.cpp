@@ -46,38 +46,46 @@ constexpr CardResponse kSubstructure{{{
     // clang-format on
 }}};
 
-// The albedo at which the table's seen / card over a card c equals `target`.
-float invert(const CardResponse& r, float target, float c) {
-  float lo = r.seen(0, c);
-  if (!(target > lo)) return 0.0f;
-  for (int i = 1; i < CardResponse::kNodes; ++i) {
-    const float hi = r.seen(i, c);
-    if (target <= hi) {
-      const float t = hi > lo ? (target - lo) / (hi - lo) : 1.0f;
-      return r.nodes[i - 1].albedo + t * (r.nodes[i].albedo - r.nodes[i - 1].albedo);
-    }
-    lo = hi;
-  }
-  return 1.0f;
-}
-
 }  // namespace
 
 const CardResponse& card_response(ShadingMode mode) { return mode == ShadingMode::Hair ? kHair : kSubstructure; }
 
-glm::vec3 albedo_over_card(const glm::vec3& seen, const glm::vec3& card, const CardResponse& r) {
+CardCorrection::CardCorrection(const CardResponse& r, const glm::vec3& card) {
+  glm::vec3 c;
+  for (int i = 0; i < 3; ++i) c[i] = std::max(std::isfinite(card[i]) ? card[i] : 1.0f, 1e-3f);
+  const float lc = std::max(luminance(c), 1e-3f);
+  for (int i = 0; i < CardResponse::kNodes; ++i) {
+    albedo_[i] = r.nodes[i].albedo;
+    seen_[i] = r.seen(i, lc);
+  }
+}
+
+glm::vec3 CardCorrection::operator()(const glm::vec3& seen) const {
   // Inverted on the luminance and applied to every channel as one factor: per
   // channel, a dark texel whose blue lies under what black fibres show but whose
   // red does not would turn a brown vane yellow.
-  glm::vec3 s, c;
-  for (int i = 0; i < 3; ++i) {
-    s[i] = std::isfinite(seen[i]) ? std::max(seen[i], 0.0f) : 0.0f;
-    c[i] = std::max(std::isfinite(card[i]) ? card[i] : 1.0f, 1e-3f);
-  }
-  const float ls = luminance(s), lc = std::max(luminance(c), 1e-3f);
+  glm::vec3 s;
+  for (int i = 0; i < 3; ++i) s[i] = std::isfinite(seen[i]) ? std::max(seen[i], 0.0f) : 0.0f;
+  const float ls = luminance(s);
   if (!(ls > 0)) return glm::vec3(0.0f);
-  const float a = invert(r, ls, lc);
+  // The albedo at which seen / card equals the texel's, linear between the nodes.
+  float a = 1.0f;
+  if (!(ls > seen_[0])) {
+    a = 0.0f;
+  } else {
+    for (int i = 1; i < CardResponse::kNodes; ++i)
+      if (ls <= seen_[i]) {
+        const float lo = seen_[i - 1], hi = seen_[i];
+        const float t = hi > lo ? (ls - lo) / (hi - lo) : 1.0f;
+        a = albedo_[i - 1] + t * (albedo_[i] - albedo_[i - 1]);
+        break;
+      }
+  }
   return glm::clamp(s * (a / ls), glm::vec3(0.0f), glm::vec3(1.0f));
+}
+
+glm::vec3 albedo_over_card(const glm::vec3& seen, const glm::vec3& card, const CardResponse& r) {
+  return CardCorrection(r, card)(seen);
 }
 
 }  // namespace plumage

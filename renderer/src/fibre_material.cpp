@@ -57,15 +57,14 @@ glm::vec3 photo_albedo_to_fibre(const glm::vec3& area_albedo, float coverage, in
 }
 
 void FibreMaterial::set_card(const glm::vec3& card, const CardResponse& response) {
-  card_ = card;
-  card_response_ = response;
+  card_.emplace(response, card);
 }
 
 HairParams FibreMaterial::at(const glm::vec3& p, float coverage, int layers) const {
   HairParams hp = params_;
   if (albedo_ && albedo_->textured() && mapping_ == AlbedoMapping::Layer) {
     glm::vec3 a = albedo_->at({p.x, p.y});
-    if (card_) a = albedo_over_card(a, *card_, card_response_);
+    if (card_) a = (*card_)(a);
     hp.sigma_a = sigma_a_from(photo_albedo_to_fibre(a, coverage, layers));
     return hp;
   }

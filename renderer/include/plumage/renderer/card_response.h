@@ -50,7 +50,18 @@ const CardResponse& card_response(ShadingMode mode);
 // seen / card, linear between its nodes, equals seen (0 below what black fibres
 // show, 1 above what white ones do), and `seen` scaled by A / its luminance so that
 // the hue stays; clamped to [0, 1]. `card` is clamped to at least 1e-3; non-finite
-// channels count as 0 (seen) or 1 (card).
+// channels count as 0 (seen) or 1 (card). Built once per card (the table's seen /
+// card over it), applied per texel.
+class CardCorrection {
+ public:
+  CardCorrection(const CardResponse& r, const glm::vec3& card);
+  glm::vec3 operator()(const glm::vec3& seen) const;
+
+ private:
+  std::array<float, CardResponse::kNodes> albedo_, seen_;
+};
+
+// CardCorrection(r, card)(seen), for one texel.
 glm::vec3 albedo_over_card(const glm::vec3& seen, const glm::vec3& card, const CardResponse& r);
 
 }  // namespace plumage

@@ -65,7 +65,7 @@ class FibreMaterial {
 
   // The texture is a photo's on a light background, relative to the card the
   // feather lies on in the render (albedo `card`): before the mapping, its albedo
-  // becomes albedo_over_card(A, card, response), so the vane looks A times that
+  // becomes CardCorrection(response, card)(A), so the vane looks A times that
   // card although part of its light never reaches the card (card_response.h).
   void set_card(const glm::vec3& card, const CardResponse& response);
 
@@ -76,8 +76,7 @@ class FibreMaterial {
   std::optional<AlbedoMap> albedo_;
   AlbedoMapping mapping_ = AlbedoMapping::Layer;
   glm::vec3 constant_sigma_a_;
-  std::optional<glm::vec3> card_;
-  CardResponse card_response_{};
+  std::optional<CardCorrection> card_;
 };
 
 }  // namespace plumage
