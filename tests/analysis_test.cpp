@@ -220,6 +220,46 @@ INSTANTIATE_TEST_SUITE_P(OuterVaneAFifth, AnalysisAsymmetric,
                                            AsymmetricCase{false, 12, 60, -100, 2, 3, 0.3f},
                                            AsymmetricCase{true, 20, 100, -62, 3, 0, 0.3f}));
 
+// A second line beside the rachis for a stretch (a pale band at a vane's
+// edge, a bar's border; the robin sheet's F14 has one along its inner vane),
+// darker there than a faint rachis on a vane whose barbs hardly show: the best
+// path through the photo leaves the rachis for it and comes back (by 17.8 and
+// 7.9 px in these two cases before the path was traced again near its robust
+// smooth). The traced shaft stays on the rachis.
+TEST(AnalysisSynthetic, ShaftStaysOnTheRachisBesideAStrongerLine) {
+  struct Case {
+    double barb_contrast, rachis_contrast, offset;  // offset: of the line, in w_right
+  };
+  for (const Case c : {Case{0.02, 0.15, 0.3}, Case{0.08, 0.3, 0.15}}) {
+    SCOPED_TRACE("barb contrast " + std::to_string(c.barb_contrast) + ", line at " + std::to_string(c.offset));
+    SyntheticFeather F;
+    F.barb_contrast = c.barb_contrast;
+    F.rachis_contrast = float(c.rachis_contrast);
+    Image img = F.draw();
+    const double offset = c.offset * F.w_right;
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) {
+        const glm::dvec2 d = glm::dvec2(x, y) - F.calamus;
+        const double along = glm::dot(d, F.dir()), across = glm::dot(d, F.right());
+        if (along > 0.4 * F.length && along < 0.55 * F.length && std::fabs(across - offset) < 1.5)
+          img.set_rgb(x, y, glm::vec3(0.30f, 0.08f, 0.05f));
+      }
+    const fs::path dir = temp_dir("second_line");
+    write_image(dir / "feather.png", img);
+    AnalyzeOptions opt;
+    opt.mm_per_px = 0.1;
+    const PhotoAnalysis A = analyze_photo(dir / "feather.png", opt);
+    ASSERT_EQ(A.layout.feathers.size(), 1u);
+    const FeatherLayout& f = A.layout.feathers[0];
+    double worst = 0;
+    for (int i = 0; i <= 100; ++i) {
+      const glm::dvec2 p = apply(f.image_from_feather, f.shaft_mm.eval(i / 100.0));
+      worst = std::max(worst, distance_to_segment(p, F.calamus, F.tip()));
+    }
+    EXPECT_LT(worst, 0.01 * F.length) << "shaft up to " << worst << " px off the drawn rachis";
+  }
+}
+
 TEST(AnalysisSynthetic, WritesAlbedoLayoutAndOverlayTogether) {
   SyntheticFeather F;
   const fs::path dir = temp_dir("outputs");
@@ -456,7 +496,7 @@ TEST(AnalysisRealPhotos, RobinRemexShaftFollowsTheRachisAlongTheLeftEdge) {
   const Image& mask = A.masks[0];
   const int bx = f.bbox_px[0], by = f.bbox_px[1];
   double worst = 0;
-  for (int i = 55; i <= 90; i += 5) {
+  for (int i = 20; i <= 90; i += 5) {
     const glm::dvec2 p = apply(f.image_from_feather, f.shaft_mm.eval(i / 100.0));
     const int row = int(std::lround(p.y)) - by;
     ASSERT_TRUE(row >= 0 && row < mask.height) << "t=" << i / 100.0;
@@ -468,7 +508,7 @@ TEST(AnalysisRealPhotos, RobinRemexShaftFollowsTheRachisAlongTheLeftEdge) {
     worst = std::max(worst, across);
     EXPECT_LT(across, 0.4) << "t=" << i / 100.0 << ": shaft " << across << " of the way across";
   }
-  std::printf("  shaft at most %.2f of the way across the mask (t = 0.55-0.9)\n", worst);
+  std::printf("  shaft at most %.2f of the way across the mask (t = 0.2-0.9)\n", worst);
 }
 
 // --- bad input through the CLI -----------------------------------------------------

@@ -84,6 +84,101 @@ cv::Mat chevron_score(const cv::Mat& S, const cv::Mat& M, int tip_step) {
   return diff;
 }
 
+// The path maximising the sum of `score` from row r0 to row r1, one column per
+// row, moving at most two columns from row to row at a price of `lambda` per
+// column; it stays inside the mask M in rows that hold any of it (`width`), and
+// when `centre` is given (one column per row from r0), within `corridor`
+// columns of it where that holds any of the mask.
+std::vector<cv::Point2d> best_path(const cv::Mat& score, const cv::Mat& M, const std::vector<int>& width, int r0,
+                                   int r1, double lambda, const std::vector<double>& centre, double corridor) {
+  const int W = score.cols;
+  const float NEG = -std::numeric_limits<float>::infinity();
+  // Rows where the corridor holds no mask pixel are free of it.
+  std::vector<char> bound(r1 - r0 + 1, 0);
+  if (!centre.empty())
+    for (int y = r0; y <= r1; ++y)
+      for (int x = 0; x < W && !bound[y - r0]; ++x)
+        bound[y - r0] = std::fabs(x - centre[y - r0]) <= corridor && (width[y] == 0 || M.at<uchar>(y, x));
+  // A row none of whose allowed pixels the path can reach (the straightened
+  // mask may jump by more than two columns) is free.
+  const auto allowed = [&](int y, int x, bool free) {
+    if (free) return true;
+    if (width[y] > 0 && !M.at<uchar>(y, x)) return false;
+    return !bound[y - r0] || std::fabs(x - centre[y - r0]) <= corridor;
+  };
+  std::vector<float> prev(W), cur(W);
+  std::vector<signed char> back(std::size_t(r1 - r0 + 1) * W, 0);
+  for (int x = 0; x < W; ++x) prev[x] = allowed(r0, x, false) ? score.at<float>(r0, x) : NEG;
+  if (*std::max_element(prev.begin(), prev.end()) == NEG)
+    for (int x = 0; x < W; ++x) prev[x] = score.at<float>(r0, x);
+  for (int y = r0 + 1; y <= r1; ++y) {
+    for (const bool free : {false, true}) {
+      for (int x = 0; x < W; ++x) {
+        float best = NEG;
+        signed char arg = 0;
+        for (int dx = -2; dx <= 2; ++dx) {
+          const int xp = x + dx;
+          if (xp < 0 || xp >= W || prev[xp] == NEG) continue;
+          const float v = prev[xp] - float(lambda * std::abs(dx));
+          if (v > best) best = v, arg = static_cast<signed char>(dx);
+        }
+        cur[x] = allowed(y, x, free) && best != NEG ? best + score.at<float>(y, x) : NEG;
+        back[std::size_t(y - r0) * W + x] = arg;
+      }
+      if (*std::max_element(cur.begin(), cur.end()) != NEG) break;
+    }
+    std::swap(prev, cur);
+  }
+  int x = int(std::max_element(prev.begin(), prev.end()) - prev.begin());
+  std::vector<cv::Point2d> path(r1 - r0 + 1);
+  for (int y = r1; y >= r0; --y) {
+    path[y - r0] = {double(x), double(y)};
+    x = std::clamp(x + back[std::size_t(y - r0) * W + x], 0, W - 1);
+  }
+  return path;
+}
+
+// A smooth of a path's column against its row that a stretch of it away from
+// the rest does not pull: a running median over 2 half + 1 rows, then three
+// rounds of local linear fits (tricube window of `half` rows each side) with
+// Tukey's biweight on the residuals from the previous round (scale: 4.685
+// times the residuals' MAD, at least one column). A stretch shorter than
+// `half` rows that leaves the line and comes back weighs nothing.
+std::vector<double> robust_smooth(const std::vector<cv::Point2d>& path, int half) {
+  const int n = int(path.size());
+  std::vector<double> fit(n), window;
+  for (int i = 0; i < n; ++i) {
+    window.clear();
+    for (int k = std::max(0, i - half); k <= std::min(n - 1, i + half); ++k) window.push_back(path[k].x);
+    std::nth_element(window.begin(), window.begin() + window.size() / 2, window.end());
+    fit[i] = window[window.size() / 2];
+  }
+  std::vector<double> robust(n), resid(n);
+  for (int round = 0; round < 3; ++round) {
+    for (int i = 0; i < n; ++i) resid[i] = std::fabs(path[i].x - fit[i]);
+    std::vector<double> sorted = resid;
+    std::nth_element(sorted.begin(), sorted.begin() + n / 2, sorted.end());
+    const double c = 4.685 * std::max(1.0, 1.4826 * sorted[n / 2]);
+    for (int i = 0; i < n; ++i) {
+      const double u = resid[i] / c;
+      robust[i] = u < 1 ? (1 - u * u) * (1 - u * u) : 0.0;
+    }
+    std::vector<double> next(n);
+    for (int i = 0; i < n; ++i) {
+      double s0 = 0, s1 = 0, s2 = 0, t0 = 0, t1 = 0;
+      for (int k = std::max(0, i - half); k <= std::min(n - 1, i + half); ++k) {
+        const double d = double(k - i) / (half + 1), tri = std::pow(1 - std::fabs(d * d * d), 3);
+        const double w = tri * robust[k], u = k - i;
+        s0 += w, s1 += w * u, s2 += w * u * u, t0 += w * path[k].x, t1 += w * u * path[k].x;
+      }
+      const double det = s0 * s2 - s1 * s1;
+      next[i] = std::fabs(det) > 1e-9 ? (s2 * t0 - s1 * t1) / det : s0 > 0 ? t0 / s0 : fit[i];
+    }
+    fit = std::move(next);
+  }
+  return fit;
+}
+
 // Near a rounded tip the rachis fades out before the outline ends, and the best
 // path there follows noise to the apex of the outline. From where the ridge
 // along the path last holds a third of its typical strength, the path goes on
@@ -244,36 +339,23 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   const bool ends_alike = top_is_quill == bottom_is_quill && run_top == run_bottom;
   const int tip_step = ends_alike ? 0 : calamus_at_bottom ? -1 : +1;
   const cv::Mat score = line + 4.0 * lambda * chevron_score(S, M, tip_step);
-  const float NEG = -std::numeric_limits<float>::infinity();
-  std::vector<float> prev(W, 0.f), cur(W);
-  std::vector<signed char> back(std::size_t(H) * W, 0);
-  for (int x = 0; x < W; ++x) prev[x] = M.at<uchar>(r0, x) ? score.at<float>(r0, x) : NEG;
-  for (int y = r0 + 1; y <= r1; ++y) {
-    const bool any = width[y] > 0;
-    for (int x = 0; x < W; ++x) {
-      float best = NEG;
-      signed char arg = 0;
-      for (int dx = -2; dx <= 2; ++dx) {
-        const int xp = x + dx;
-        if (xp < 0 || xp >= W || prev[xp] == NEG) continue;
-        const float v = prev[xp] - float(lambda * std::abs(dx));
-        if (v > best) best = v, arg = static_cast<signed char>(dx);
-      }
-      const bool inside = !any || M.at<uchar>(y, x);
-      cur[x] = inside && best != NEG ? best + score.at<float>(y, x) : NEG;
-      back[std::size_t(y) * W + x] = arg;
-    }
-    std::swap(prev, cur);
-  }
-  int x = int(std::max_element(prev.begin(), prev.end()) - prev.begin());
-  std::vector<cv::Point2d> rows_path(r1 - r0 + 1);
+  std::vector<cv::Point2d> rows_path = best_path(score, M, width, r0, r1, lambda, {}, 0);
+  // A rachis is smooth, but where a second line runs beside it (a pale inner
+  // vane's edge, a bar's border) the best path may leave it for a stretch and
+  // come back. Where the path strays from its robust smooth by more than a
+  // tenth of the feather's typical width, it is traced again within that
+  // distance of the smooth.
+  std::vector<int> widths;
+  for (int y = r0; y <= r1; ++y)
+    if (width[y] > 0) widths.push_back(width[y]);
+  std::nth_element(widths.begin(), widths.begin() + widths.size() / 2, widths.end());
+  const double corridor = std::max(3.0, 0.1 * widths[widths.size() / 2]);
+  const std::vector<double> centre = robust_smooth(rows_path, std::max(10, int(rows_path.size()) / 4));
+  bool strays = false;
+  for (std::size_t i = 0; i < rows_path.size(); ++i) strays |= std::fabs(rows_path[i].x - centre[i]) > corridor;
+  if (strays) rows_path = best_path(score, M, width, r0, r1, lambda, centre, corridor);
   double on_path = 0;
-  for (int y = r1; y >= r0; --y) {
-    rows_path[y - r0] = {double(x), double(y)};
-    on_path += ridge.at<float>(y, x);
-    x += back[std::size_t(y) * W + x];
-    x = std::clamp(x, 0, W - 1);
-  }
+  for (const cv::Point2d& p : rows_path) on_path += ridge.at<float>(int(p.y), int(p.x));
 
   straighten_faded_tip(rows_path, ridge, M, calamus_at_bottom ? -1 : +1);
 
