@@ -511,6 +511,39 @@ TEST(AnalysisRealPhotos, RobinRemexShaftFollowsTheRachisAlongTheLeftEdge) {
   std::printf("  shaft at most %.2f of the way across the mask (t = 0.2-0.9)\n", worst);
 }
 
+// Small feathers whose base a glue dot or downy barbs widen, so that neither end
+// is a quill by the run rule and the runs of narrow rows differ by a row or
+// two: the rachis's strength at the ends and the vane's centroid decide ("How it
+// works", step 4). Each is read from its quill: the calamus is the shaft's end
+// lower in the photo (the sheets' feathers hang quill down), or on the goldfinch
+// sheet's F35, lying across, its left end. Before, all five were read from the tip.
+TEST(AnalysisRealPhotos, SmallFeathersWithoutAQuillAreReadFromTheirBase) {
+  struct Case {
+    const char* photo;
+    int feather;
+    bool lying_across;  // quill at the left, else at the bottom
+  };
+  for (const Case c : {Case{"blue-jay-feather-sheet.jpg", 12, false}, Case{"blue-jay-feather-sheet.jpg", 13, false},
+                       Case{"blue-jay-feather-sheet.jpg", 22, false},
+                       Case{"european-robin-feather-sheet.jpg", 19, false},
+                       Case{"european-goldfinch-feather-sheet.jpg", 35, true}}) {
+    SCOPED_TRACE(std::string(c.photo) + " F" + std::to_string(c.feather));
+    const fs::path photo = shared_photo(c.photo);
+    if (!fs::exists(photo)) GTEST_SKIP() << "no " << photo << " (shared photos absent)";
+    AnalyzeOptions opt;
+    opt.feather = c.feather;
+    const PhotoAnalysis A = analyze_photo(photo, opt);
+    ASSERT_EQ(A.layout.feathers.size(), 1u);
+    const FeatherLayout& f = A.layout.feathers[0];
+    const glm::dvec2 calamus = apply(f.image_from_feather, f.shaft_mm.eval(0.0));
+    const glm::dvec2 tip = apply(f.image_from_feather, f.shaft_mm.eval(1.0));
+    if (c.lying_across)
+      EXPECT_LT(calamus.x, tip.x) << "calamus at x " << calamus.x << ", tip at " << tip.x;
+    else
+      EXPECT_GT(calamus.y, tip.y) << "calamus at row " << calamus.y << ", tip at " << tip.y;
+  }
+}
+
 // --- bad input through the CLI -----------------------------------------------------
 
 namespace {

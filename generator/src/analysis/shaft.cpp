@@ -319,7 +319,32 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   constexpr int kMinQuillRows = 3;
   const bool top_is_quill = quill_top >= kMinQuillRows && 2 * quill_top >= run_top;
   const bool bottom_is_quill = quill_bottom >= kMinQuillRows && 2 * quill_bottom >= run_bottom;
-  const bool calamus_at_bottom = top_is_quill != bottom_is_quill ? bottom_is_quill : run_bottom >= run_top;
+  bool calamus_at_bottom = top_is_quill != bottom_is_quill ? bottom_is_quill : run_bottom >= run_top;
+  // When neither end is a quill and both runs are a few rows (a glue dot or
+  // downy barbs widen a small feather's base; blue-jay sheet F12, F22), the run
+  // rule is a guess. Two cues of the feather's shape then decide when they agree:
+  // the rachis is strongest toward the calamus and tapers to the tip (the mean of
+  // each row's strongest ridge over the end fifth of the rows, at least 1.5
+  // times the other end's), and a body feather is widest toward its tip (the
+  // mask's area centroid along the axis lies on the tip's side of the middle).
+  // Each alone disagrees with the run rule on many feathers the run rule gets
+  // right (docs/analysis.md, step 4).
+  bool shape_decides = false;
+  if (top_is_quill == bottom_is_quill && std::max(run_top, run_bottom) <= 0.06 * (r1 - r0)) {
+    const int end_rows = std::max(2, (r1 - r0) / 5);
+    double ridge_top = 0, ridge_bottom = 0;
+    for (int k = 0; k < end_rows; ++k) {
+      double hi_top, hi_bottom;
+      cv::minMaxLoc(ridge.row(r0 + k), nullptr, &hi_top);
+      cv::minMaxLoc(ridge.row(r1 - k), nullptr, &hi_bottom);
+      ridge_top += hi_top, ridge_bottom += hi_bottom;
+    }
+    double area = 0, moment = 0;
+    for (int y = r0; y <= r1; ++y) area += width[y], moment += width[y] * double(y - r0) / (r1 - r0);
+    const double centroid = moment / std::max(area, 1.0);  // 0: first row, 1: last
+    if (ridge_bottom >= 1.5 * ridge_top && centroid < 0.5) calamus_at_bottom = true, shape_decides = true;
+    if (ridge_top >= 1.5 * ridge_bottom && centroid > 0.5) calamus_at_bottom = false, shape_decides = true;
+  }
 
   // Dynamic programming: the path maximising the line score plus the vanes'
   // chevron score, moving at most two columns per row, with a small price per
@@ -336,7 +361,7 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   cv::Mat line;
   cv::log(1.0 + ridge / std::max(mean_ridge, 1e-6), line);
   line *= mean_ridge;
-  const bool ends_alike = top_is_quill == bottom_is_quill && run_top == run_bottom;
+  const bool ends_alike = !shape_decides && top_is_quill == bottom_is_quill && run_top == run_bottom;
   const int tip_step = ends_alike ? 0 : calamus_at_bottom ? -1 : +1;
   const cv::Mat score = line + 4.0 * lambda * chevron_score(S, M, tip_step);
   std::vector<cv::Point2d> rows_path = best_path(score, M, width, r0, r1, lambda, {}, 0);
