@@ -116,13 +116,17 @@ std::vector<cv::Point2d> best_path(const cv::Mat& score, const cv::Mat& M, const
       for (int x = 0; x < W; ++x) {
         float best = NEG;
         signed char arg = 0;
+        if (!allowed(y, x, free)) {
+          cur[x] = NEG;
+          continue;
+        }
         for (int dx = -2; dx <= 2; ++dx) {
           const int xp = x + dx;
           if (xp < 0 || xp >= W || prev[xp] == NEG) continue;
           const float v = prev[xp] - float(lambda * std::abs(dx));
           if (v > best) best = v, arg = static_cast<signed char>(dx);
         }
-        cur[x] = allowed(y, x, free) && best != NEG ? best + score.at<float>(y, x) : NEG;
+        cur[x] = best != NEG ? best + score.at<float>(y, x) : NEG;
         back[std::size_t(y - r0) * W + x] = arg;
       }
       if (*std::max_element(cur.begin(), cur.end()) != NEG) break;
@@ -153,6 +157,11 @@ std::vector<double> robust_smooth(const std::vector<cv::Point2d>& path, int half
     std::nth_element(window.begin(), window.begin() + window.size() / 2, window.end());
     fit[i] = window[window.size() / 2];
   }
+  std::vector<double> tricube(half + 1);
+  for (int d = 0; d <= half; ++d) {
+    const double u = double(d) / (half + 1), v = 1 - u * u * u;
+    tricube[d] = v * v * v;
+  }
   std::vector<double> robust(n), resid(n);
   for (int round = 0; round < 3; ++round) {
     for (int i = 0; i < n; ++i) resid[i] = std::fabs(path[i].x - fit[i]);
@@ -167,8 +176,7 @@ std::vector<double> robust_smooth(const std::vector<cv::Point2d>& path, int half
     for (int i = 0; i < n; ++i) {
       double s0 = 0, s1 = 0, s2 = 0, t0 = 0, t1 = 0;
       for (int k = std::max(0, i - half); k <= std::min(n - 1, i + half); ++k) {
-        const double d = double(k - i) / (half + 1), tri = std::pow(1 - std::fabs(d * d * d), 3);
-        const double w = tri * robust[k], u = k - i;
+        const double w = tricube[std::abs(k - i)] * robust[k], u = k - i;
         s0 += w, s1 += w * u, s2 += w * u * u, t0 += w * path[k].x, t1 += w * u * path[k].x;
       }
       const double det = s0 * s2 - s1 * s1;
