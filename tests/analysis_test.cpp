@@ -516,7 +516,7 @@ TEST(AnalysisRealPhotos, RobinRemexShaftFollowsTheRachisAlongTheLeftEdge) {
 // two: the rachis's strength at the ends and the vane's centroid decide ("How it
 // works", step 4). Each is read from its quill: the calamus is the shaft's end
 // lower in the photo (the sheets' feathers hang quill down), or on the goldfinch
-// sheet's F35, lying across, its left end. Before, all five were read from the tip.
+// sheet's F35, lying across, its left end. Before, all six were read from the tip.
 TEST(AnalysisRealPhotos, SmallFeathersWithoutAQuillAreReadFromTheirBase) {
   struct Case {
     const char* photo;
@@ -524,7 +524,7 @@ TEST(AnalysisRealPhotos, SmallFeathersWithoutAQuillAreReadFromTheirBase) {
     bool lying_across;  // quill at the left, else at the bottom
   };
   for (const Case c : {Case{"blue-jay-feather-sheet.jpg", 12, false}, Case{"blue-jay-feather-sheet.jpg", 13, false},
-                       Case{"blue-jay-feather-sheet.jpg", 22, false},
+                       Case{"blue-jay-feather-sheet.jpg", 19, false}, Case{"blue-jay-feather-sheet.jpg", 22, false},
                        Case{"european-robin-feather-sheet.jpg", 19, false},
                        Case{"european-goldfinch-feather-sheet.jpg", 35, true}}) {
     SCOPED_TRACE(std::string(c.photo) + " F" + std::to_string(c.feather));

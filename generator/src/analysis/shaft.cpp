@@ -332,7 +332,7 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   // downy barbs widen a small feather's base; blue-jay sheet F12, F22), the run
   // rule is a guess. Two cues of the feather's shape then decide when they agree:
   // the rachis is strongest toward the calamus and tapers to the tip (the mean of
-  // each row's strongest ridge over the end fifth of the rows, at least 1.5
+  // each row's strongest ridge over the end fifth of the rows, at least 1.3
   // times the other end's), and a body feather is widest toward its tip (the
   // mask's area centroid along the axis lies on the tip's side of the middle).
   // Each alone disagrees with the run rule on many feathers the run rule gets
@@ -350,8 +350,8 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
     double area = 0, moment = 0;
     for (int y = r0; y <= r1; ++y) area += width[y], moment += width[y] * double(y - r0) / (r1 - r0);
     const double centroid = moment / std::max(area, 1.0);  // 0: first row, 1: last
-    if (ridge_bottom >= 1.5 * ridge_top && centroid < 0.5) calamus_at_bottom = true, shape_decides = true;
-    if (ridge_top >= 1.5 * ridge_bottom && centroid > 0.5) calamus_at_bottom = false, shape_decides = true;
+    if (ridge_bottom >= 1.3 * ridge_top && centroid < 0.5) calamus_at_bottom = true, shape_decides = true;
+    if (ridge_top >= 1.3 * ridge_bottom && centroid > 0.5) calamus_at_bottom = false, shape_decides = true;
   }
 
   // Dynamic programming: the path maximising the line score plus the vanes'
