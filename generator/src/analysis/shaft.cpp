@@ -147,7 +147,11 @@ std::vector<cv::Point2d> best_path(const cv::Mat& score, const cv::Mat& M, const
 // rounds of local linear fits (tricube window of `half` rows each side) with
 // Tukey's biweight on the residuals from the previous round (scale: 4.685
 // times the residuals' MAD, at least one column). A stretch shorter than
-// `half` rows that leaves the line and comes back weighs nothing.
+// `half` rows that leaves the line and comes back weighs nothing. This is the
+// scheme of smooth_along_shaft (layout_to_params.h), which is built for a few
+// dozen stations (it sorts every reading by distance at every station); run on
+// 101 rows of the path with the same windows it moved 42 of the photo study's
+// 174 shafts by up to 12.5 mm, so it is not used here.
 std::vector<double> robust_smooth(const std::vector<cv::Point2d>& path, int half) {
   const int n = int(path.size());
   std::vector<double> fit(n), window;
@@ -249,6 +253,65 @@ void straighten_faded_tip(std::vector<cv::Point2d>& path, const cv::Mat& ridge, 
     path.erase(path.begin(), path.begin() + kept);
 }
 
+// Which end of the rows r0..r1 of the straightened feather (per-row mask widths
+// `width`, line strength `ridge`) is the calamus.
+struct CalamusEnd {
+  bool at_bottom = false;  // at row r1
+  bool known = false;      // false: the ends are alike by every cue (then the chevron's sign decides)
+  int run = 0;             // rows under 30 % of the widest at the calamus end (the bare quill)
+};
+CalamusEnd calamus_end(const std::vector<int>& width, const cv::Mat& ridge, int r0, int r1) {
+  // The calamus end is the one with the longer run of rows where only the
+  // bare quill is left (width well under the vane's). A rounded tip (a white
+  // tip on a mid-grey card, where the quill's end may hide under a glue dot)
+  // can have the longer run under 30 % of the widest, but a quill is narrow
+  // throughout: an end where at least kMinQuillRows rows, and half of its run
+  // under 30 %, are under 10 % of the widest is a quill; a rounded or pointed
+  // tip narrows gradually (a half disc: a tenth as many rows under 10 % as
+  // under 30 %; a straight taper: a third). When exactly one end is a quill, it
+  // is the calamus.
+  const int wmax = *std::max_element(width.begin(), width.end());
+  auto run = [&](int from, int step, double below) {
+    int k = 0;
+    for (int y = from; y >= r0 && y <= r1 && width[y] < below * wmax; y += step) ++k;
+    return k;
+  };
+  const int run_top = run(r0, +1, 0.3), run_bottom = run(r1, -1, 0.3);
+  const int quill_top = run(r0, +1, 0.1), quill_bottom = run(r1, -1, 0.1);
+  constexpr int kMinQuillRows = 3;
+  const bool top_is_quill = quill_top >= kMinQuillRows && 2 * quill_top >= run_top;
+  const bool bottom_is_quill = quill_bottom >= kMinQuillRows && 2 * quill_bottom >= run_bottom;
+  CalamusEnd end;
+  end.at_bottom = top_is_quill != bottom_is_quill ? bottom_is_quill : run_bottom >= run_top;
+  end.known = top_is_quill != bottom_is_quill || run_top != run_bottom;
+  // When neither end is a quill and both runs are a few rows (a glue dot or
+  // downy barbs widen a small feather's base; blue-jay sheet F12, F22), the run
+  // rule is a guess. Two cues of the feather's shape then decide when they agree:
+  // the rachis is strongest toward the calamus and tapers to the tip (the mean of
+  // each row's strongest ridge over the end fifth of the rows, at least 1.3
+  // times the other end's), and a body feather is widest toward its tip (the
+  // mask's area centroid along the axis lies on the tip's side of the middle).
+  // Each alone disagrees with the run rule on many feathers the run rule gets
+  // right (docs/analysis.md, step 4).
+  if (top_is_quill == bottom_is_quill && std::max(run_top, run_bottom) <= 0.06 * (r1 - r0)) {
+    const int end_rows = std::max(2, (r1 - r0) / 5);
+    double ridge_top = 0, ridge_bottom = 0;
+    for (int k = 0; k < end_rows; ++k) {
+      double hi_top, hi_bottom;
+      cv::minMaxLoc(ridge.row(r0 + k), nullptr, &hi_top);
+      cv::minMaxLoc(ridge.row(r1 - k), nullptr, &hi_bottom);
+      ridge_top += hi_top, ridge_bottom += hi_bottom;
+    }
+    double area = 0, moment = 0;
+    for (int y = r0; y <= r1; ++y) area += width[y], moment += width[y] * double(y - r0) / (r1 - r0);
+    const double centroid = moment / std::max(area, 1.0);  // 0: first row, 1: last
+    if (ridge_bottom >= 1.3 * ridge_top && centroid < 0.5) end.at_bottom = true, end.known = true;
+    if (ridge_top >= 1.3 * ridge_bottom && centroid > 0.5) end.at_bottom = false, end.known = true;
+  }
+  end.run = end.at_bottom ? run_bottom : run_top;
+  return end;
+}
+
 }  // namespace
 
 Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
@@ -307,52 +370,8 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   }
   if (r1 - r0 < 8) throw Error("feather too short to trace a shaft");
 
-  // The calamus end is the one with the longer run of rows where only the
-  // bare quill is left (width well under the vane's). A rounded tip (a white
-  // tip on a mid-grey card, where the quill's end may hide under a glue dot)
-  // can have the longer run under 30 % of the widest, but a quill is narrow
-  // throughout: an end where at least kMinQuillRows rows, and half of its run
-  // under 30 %, are under 10 % of the widest is a quill; a rounded or pointed
-  // tip narrows gradually (a half disc: a tenth as many rows under 10 % as
-  // under 30 %; a straight taper: a third). When exactly one end is a quill, it
-  // is the calamus.
-  const int wmax = *std::max_element(width.begin(), width.end());
-  auto run = [&](int from, int step, double below) {
-    int k = 0;
-    for (int y = from; y >= r0 && y <= r1 && width[y] < below * wmax; y += step) ++k;
-    return k;
-  };
-  const int run_top = run(r0, +1, 0.3), run_bottom = run(r1, -1, 0.3);
-  const int quill_top = run(r0, +1, 0.1), quill_bottom = run(r1, -1, 0.1);
-  constexpr int kMinQuillRows = 3;
-  const bool top_is_quill = quill_top >= kMinQuillRows && 2 * quill_top >= run_top;
-  const bool bottom_is_quill = quill_bottom >= kMinQuillRows && 2 * quill_bottom >= run_bottom;
-  bool calamus_at_bottom = top_is_quill != bottom_is_quill ? bottom_is_quill : run_bottom >= run_top;
-  // When neither end is a quill and both runs are a few rows (a glue dot or
-  // downy barbs widen a small feather's base; blue-jay sheet F12, F22), the run
-  // rule is a guess. Two cues of the feather's shape then decide when they agree:
-  // the rachis is strongest toward the calamus and tapers to the tip (the mean of
-  // each row's strongest ridge over the end fifth of the rows, at least 1.3
-  // times the other end's), and a body feather is widest toward its tip (the
-  // mask's area centroid along the axis lies on the tip's side of the middle).
-  // Each alone disagrees with the run rule on many feathers the run rule gets
-  // right (docs/analysis.md, step 4).
-  bool shape_decides = false;
-  if (top_is_quill == bottom_is_quill && std::max(run_top, run_bottom) <= 0.06 * (r1 - r0)) {
-    const int end_rows = std::max(2, (r1 - r0) / 5);
-    double ridge_top = 0, ridge_bottom = 0;
-    for (int k = 0; k < end_rows; ++k) {
-      double hi_top, hi_bottom;
-      cv::minMaxLoc(ridge.row(r0 + k), nullptr, &hi_top);
-      cv::minMaxLoc(ridge.row(r1 - k), nullptr, &hi_bottom);
-      ridge_top += hi_top, ridge_bottom += hi_bottom;
-    }
-    double area = 0, moment = 0;
-    for (int y = r0; y <= r1; ++y) area += width[y], moment += width[y] * double(y - r0) / (r1 - r0);
-    const double centroid = moment / std::max(area, 1.0);  // 0: first row, 1: last
-    if (ridge_bottom >= 1.3 * ridge_top && centroid < 0.5) calamus_at_bottom = true, shape_decides = true;
-    if (ridge_top >= 1.3 * ridge_bottom && centroid > 0.5) calamus_at_bottom = false, shape_decides = true;
-  }
+  const CalamusEnd calamus = calamus_end(width, ridge, r0, r1);
+  const bool calamus_at_bottom = calamus.at_bottom;
 
   // Dynamic programming: the path maximising the line score plus the vanes'
   // chevron score, moving at most two columns per row, with a small price per
@@ -369,8 +388,7 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   cv::Mat line;
   cv::log(1.0 + ridge / std::max(mean_ridge, 1e-6), line);
   line *= mean_ridge;
-  const bool ends_alike = !shape_decides && top_is_quill == bottom_is_quill && run_top == run_bottom;
-  const int tip_step = ends_alike ? 0 : calamus_at_bottom ? -1 : +1;
+  const int tip_step = !calamus.known ? 0 : calamus_at_bottom ? -1 : +1;
   const cv::Mat score = line + 4.0 * lambda * chevron_score(S, M, tip_step);
   std::vector<cv::Point2d> rows_path = best_path(score, M, width, r0, r1, lambda, {}, 0);
   // A rachis is smooth, but where a second line runs beside it (a pale inner
@@ -405,8 +423,7 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   // Shaft width: the bare quill's width where there is one, else a typical
   // rachis proportion of the length.
   std::vector<int> quill;
-  const int run_len = calamus_at_bottom ? run_bottom : run_top;
-  for (int k = 0; k < run_len; ++k) quill.push_back(width[calamus_at_bottom ? r1 - k : r0 + k]);
+  for (int k = 0; k < calamus.run; ++k) quill.push_back(width[calamus_at_bottom ? r1 - k : r0 + k]);
   if (quill.size() >= 3) {
     std::nth_element(quill.begin(), quill.begin() + quill.size() / 2, quill.end());
     shaft.width_px = quill[quill.size() / 2];
