@@ -41,7 +41,7 @@ mkdir -p "$build/findings"
 # error otherwise, and a sanitizer report written meanwhile would vanish with them.
 export PLUMAGE_KEEP_STDERR=1
 # Leaks are findings too (the parsers own no global caches); abort on the first UB.
-export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1}
+export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1:intercept_tls_get_addr=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 # The one third-party leak the image reader meets on broken PNGs (see the file).
 export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/scripts/lsan.supp}
