@@ -213,6 +213,34 @@ TEST(LayoutToParams, UnsureValuesAreReplacedWithAWarning) {
               barb_spacing_prior_mm(f.length_mm), 0.01);
 }
 
+// A side whose vane begins later than the other's (robin sheet feather 14: the inner
+// vane starts 4 mm up the quill) is reported over the bare quill with its measured
+// width, about the rachis' half-width, at width confidence 0: the side is absent
+// there. Held at its first sure width, the vane ran down the quill.
+TEST(LayoutToParams, ASideAbsentAtTheBaseBeginsWhereItIsSeen) {
+  FeatherLayout f = known_layout();
+  constexpr double kSeenFrom = 0.35;
+  for (std::size_t i = 0; i < f.stations_t.size(); ++i)
+    if (f.stations_t[i] < kSeenFrom) {
+      f.right.width_mm[i] = 0.5 * f.shaft_width_mm;
+      f.right.width_confidence[i] = 0.0;
+    }
+  const FeatherParams p = layout_to_params(f, "late-side.json").params;
+  const auto x_at = [&](double t) { return (t * kLength - p.shaft.calamus_length) / p.vane_length(); };
+  // The left side still sets where the vane begins.
+  EXPECT_NEAR(p.shaft.calamus_length / kLength, 0.15, 0.05);
+  const double first_seen = true_width(f.stations_t[8], kWidthRight);  // t = 0.354
+  // Held at the first sure width, the vane would be first_seen wide all the way down.
+  for (double t : {0.17, 0.22, 0.27, 0.30}) EXPECT_LT(p.right.width(x_at(t)), 0.2 * first_seen) << "t=" << t;
+  for (double t : {0.5, 0.7, 0.9}) EXPECT_NEAR(p.right.width(x_at(t)), true_width(t, kWidthRight), 0.03 * kWidthRight);
+  // An unsure station inside the vane is still bridged by its neighbours.
+  f.right.width_mm[14] = 0.0;
+  f.right.width_confidence[14] = 0.0;
+  const FeatherParams q = layout_to_params(f, "late-side.json").params;
+  const double t14 = f.stations_t[14];
+  EXPECT_NEAR(q.right.width(x_at(t14)), true_width(t14, kWidthRight), 0.03 * kWidthRight);
+}
+
 // Where a photo cannot resolve barbs, a confident "spacing" is the period of
 // texture or colour bars: a 250 mm flight feather at 0.86 mm/px read 13 barbs
 // per side. Each of the three tests sends such a vane to the prior.

@@ -72,6 +72,23 @@ std::vector<glm::dvec2> trusted(const std::vector<double>& t, const std::vector<
   return out;
 }
 
+// A side's widths: the stations analysis was sure of, and the stations below the
+// first of them at their measured width. Width confidence is the
+// share of a station's rows where that side reaches past the rachis, so a run of
+// unsure stations from the base is a side that is absent there (its vane begins
+// later than the other's, as on many body feathers), not a side of unknown width;
+// held at the first sure width instead, such a side's vane would run down the bare
+// quill (docs/cli.md, "From a photo").
+std::vector<glm::dvec2> vane_widths(const std::vector<double>& t, const VaneProfile& v) {
+  std::vector<glm::dvec2> out = trusted(t, v.width_mm, v.width_confidence);
+  if (out.empty()) return out;
+  std::vector<glm::dvec2> base;
+  for (std::size_t i = 0; i < t.size() && t[i] < out.front().x; ++i)
+    if (std::isfinite(v.width_mm[i])) base.push_back({t[i], v.width_mm[i]});
+  out.insert(out.begin(), base.begin(), base.end());
+  return out;
+}
+
 // Linear interpolation through (t, value) pairs, held constant past the ends.
 double interpolate(const std::vector<glm::dvec2>& pts, double t) {
   if (t <= pts.front().x) return pts.front().y;
@@ -525,7 +542,7 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
     VaneParams& vp = p.vane(s == 0 ? VaneSide::Left : VaneSide::Right);
     const std::string side = names[s];
 
-    auto width = trusted(f.stations_t, v.width_mm, v.width_confidence);
+    auto width = vane_widths(f.stations_t, v);
     if (width.empty()) {
       out.warnings.push_back(side + " vane width: no station is confident; used the default feather's profile "
                                     "scaled to the shaft length");
