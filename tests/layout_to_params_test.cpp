@@ -81,10 +81,23 @@ bool has_warning(const std::vector<std::string>& w, const std::string& text) {
 TEST(LayoutToParams, ParamsFollowTheMeasurements) {
   const LayoutParams lp = layout_to_params(known_layout(), "known.json");
   const FeatherParams& p = lp.params;
-  // The one repair: this vane widens from nothing with an infinite slope at its
+  // The repairs: this vane widens from nothing with an infinite slope at its
   // base, faster than barbs at 40 degrees can follow, so the angles are raised
-  // there (layout_to_params.cpp, make_buildable).
-  for (const auto& w : lp.warnings) EXPECT_NE(w.find("raised where the vane widens"), std::string::npos) << w;
+  // there, and their fall to the measured angle above is spread along the shaft
+  // (layout_to_params.cpp, make_buildable).
+  for (const auto& w : lp.warnings)
+    EXPECT_TRUE(w.find("raised where the vane widens") != std::string::npos ||
+                w.find("so fast that barbs would fan apart") != std::string::npos)
+        << w;
+  // Nowhere does the angle fall faster than kMaxFan allows (barb_bend_deg is 0 here).
+  for (const VaneParams* v : {&p.left, &p.right}) {
+    const double widest = v->width.max_value();
+    for (double x = 0.0; x + 0.01 <= 1.0; x += 0.01) {
+      const double cot0 = 1.0 / std::tan(v->angle_deg(x) * kPi / 180.0);
+      const double cot1 = 1.0 / std::tan(v->angle_deg(x + 0.01) * kPi / 180.0);
+      EXPECT_LE(cot1 - cot0, kMaxFan * 0.01 * p.vane_length() / widest + 1e-6) << "x=" << x;
+    }
+  }
   EXPECT_NEAR(p.shaft.length, kLength, 1e-6);
   // The vane starts between the last bare station (t < 0.15) and the first with width.
   EXPECT_NEAR(p.shaft.calamus_length / kLength, 0.15, 0.05);
@@ -98,9 +111,9 @@ TEST(LayoutToParams, ParamsFollowTheMeasurements) {
     EXPECT_NEAR(p.right.width(x), true_width(t, kWidthRight), 0.03 * kWidthRight) << "t=" << t;
     if (t < 0.5) {  // raised where the vane still widens fast, never lowered
       EXPECT_GE(p.left.angle_deg(x), kAngleLeft - 1e-6) << "t=" << t;
-      EXPECT_LE(p.left.angle_deg(x), kAngleLeft + 10.0) << "t=" << t;
+      EXPECT_LE(p.left.angle_deg(x), kAngleLeft + (t < 0.35 ? 20.0 : 10.0)) << "t=" << t;
       EXPECT_GE(p.right.angle_deg(x), kAngleRight - 1e-6) << "t=" << t;
-      EXPECT_LE(p.right.angle_deg(x), kAngleRight + 10.0) << "t=" << t;
+      EXPECT_LE(p.right.angle_deg(x), kAngleRight + (t < 0.35 ? 20.0 : 10.0)) << "t=" << t;
       continue;
     }
     EXPECT_NEAR(p.left.angle_deg(x), kAngleLeft, 1e-6) << "t=" << t;
@@ -211,6 +224,31 @@ TEST(LayoutToParams, UnsureValuesAreReplacedWithAWarning) {
   EXPECT_TRUE(has_warning(none.warnings, "prior"));
   EXPECT_NEAR(none.params.vane_length() / none.params.barb_count(VaneSide::Left),
               barb_spacing_prior_mm(f.length_mm), 0.01);
+}
+
+// Barbs raised to stand steep where the vane widens fast at its base (blue-jay
+// sheet feather 12: 81 degrees there, 28 degrees measured above) used to fall back
+// to the measured angle within a few barbs, and the barbs between fanned apart,
+// leaving wedges of open card. The fall is spread along the shaft: no two
+// neighbouring barbs' tips are much further apart than the vane's typical pair.
+TEST(LayoutToParams, AnglesRaisedAtAWideningBaseDoNotFanTheBarbsApart) {
+  FeatherLayout f = known_layout();
+  for (double& a : f.left.barb_angle_deg) a = 25.0;
+  const Feather feather = layout_to_feather(f, 7, ".", ".", "fan.json");
+  std::vector<glm::vec3> tips;
+  for (const Curve& c : feather.curves)
+    if (c.kind == CurveKind::Barb && c.side == VaneSide::Left && c.points.size() >= 2) tips.push_back(c.points.back().p);
+  ASSERT_GT(tips.size(), 20u);
+  std::vector<double> gaps;
+  for (std::size_t i = 0; i + 1 < tips.size(); ++i) gaps.push_back(glm::length(tips[i + 1] - tips[i]));
+  std::vector<double> sorted = gaps;
+  std::sort(sorted.begin(), sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  // Leave out the first tenth of the barbs: at the very base the vane is
+  // narrower than a spacing and its stubs' tips are their roots.
+  double worst = 0;
+  for (std::size_t i = gaps.size() / 10; i < gaps.size(); ++i) worst = std::max(worst, gaps[i] / median);
+  EXPECT_LT(worst, 3.0) << "median tip gap " << median << " mm";
 }
 
 // A side whose vane begins later than the other's (robin sheet feather 14: the inner

@@ -230,13 +230,23 @@ void make_buildable(FeatherParams& p, std::vector<std::string>& warnings) {
     }
     if (raised)
       warnings.push_back(name + " barb angle: raised where the vane widens faster than its barbs can follow");
-    bool held = false;
+    bool held = false, fanned = false;
     for (std::size_t i = 1; i < ak.size(); ++i) {
       const double ds = (ak[i].x - ak[i - 1].x) * lv;
       const double cot_min = cot_end(ak[i - 1].y) - 0.5 * ds / widest;
       const double limit = cot_min > 0 ? std::atan(1.0 / cot_min) * 180.0 / kPi + bend : 90.0;
       if (ak[i].y > limit + 1e-9) ak[i].y = std::min(limit, 90.0), held = true;
+      // Falling along the shaft, the angle fans neighbours apart: out at W their
+      // tips are (change in cot) W further apart than their roots. Held to
+      // kMaxFan ds / W, the gap between tips stays within twice the spacing; a
+      // fall from barbs raised at a widening base to the measured angles above
+      // it is spread over the shaft instead of leaving a wedge of open card.
+      const double cot_max = cot_end(ak[i - 1].y) + kMaxFan * ds / widest;
+      const double floor = std::atan(1.0 / cot_max) * 180.0 / kPi + bend;
+      if (ak[i].y < floor - 1e-9) ak[i].y = std::min(floor, 90.0), fanned = true;
     }
+    if (fanned)
+      warnings.push_back(name + " barb angle: raised where it fell along the shaft so fast that barbs would fan apart");
     for (auto& q : ak) q.y = std::clamp(q.y, 5.0, 90.0);
     v.angle_deg = Profile(std::move(ak));
     if (held)

@@ -31,6 +31,13 @@ struct LayoutParams {
 // Measurements with confidence below this are not trusted (docs/layout-format.md).
 inline constexpr double kLayoutMinConfidence = 0.5;
 
+// How fast a barb angle may fall along the shaft in a layout's feather: cot(theta
+// at the barb's end) rises by at most kMaxFan ds / W over ds of shaft, W the
+// vane's widest width, so neighbouring barbs' tips are at most about twice as far
+// apart as their roots; an angle that falls faster is raised (docs/cli.md, "From a
+// photo").
+inline constexpr double kMaxFan = 1.0;
+
 // A profile along the shaft from per-station readings that may include some
 // that are something else (docs/analysis.md, "Barb angles along the shaft"): at
 // each station a weighted local-linear regression over station position `x`
