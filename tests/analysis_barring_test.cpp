@@ -9,6 +9,7 @@
 #include <sstream>
 #include <unistd.h>
 
+#include "plumage/common/median.h"
 #include "plumage/common/image.h"
 #include "plumage/generator/analysis/analyze.h"
 #include "plumage/generator/layout_to_params.h"
@@ -53,11 +54,6 @@ Image chevron_barred(const SyntheticFeather& F, double bar_deg, double period, d
       for (int c = 0; c < 3; ++c) img.at(x, y)[c] *= dark;
     }
   return img;
-}
-
-double median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
-  return v[v.size() / 2];
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <unistd.h>
 
+#include "plumage/common/median.h"
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
@@ -33,11 +34,8 @@ fs::path temp_dir(const std::string& name) {
   return d;
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
+// NaN for no readings, so that a bound on it fails.
+double median(const std::vector<double>& v) { return plumage::median(v, double(NAN)); }
 
 // Values of a profile at stations whose confidence passes `min_conf`.
 std::vector<double> confident(const std::vector<double>& v, const std::vector<double>& c,

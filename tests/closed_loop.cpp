@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "plumage/common/median.h"
 #include "plumage/common/bspline.h"
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
@@ -28,11 +29,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kMarginFraction = 0.07;  // of the image height, around the feather
 
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
+// NaN for no readings, so that a bound on it fails.
+double median(const std::vector<double>& v) { return plumage::median(v, double(NAN)); }
 
 // ---------------------------------------------------------------------------
 // The orthographic top view: feather (X, Y) in mm to photo pixels, whose

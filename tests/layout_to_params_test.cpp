@@ -10,6 +10,7 @@
 #include <tuple>
 #include <unistd.h>
 
+#include "plumage/common/median.h"
 #include "plumage/common/bspline.h"
 #include "plumage/common/error.h"
 #include "plumage/generator/builder.h"
@@ -241,9 +242,7 @@ TEST(LayoutToParams, AnglesRaisedAtAWideningBaseDoNotFanTheBarbsApart) {
   ASSERT_GT(tips.size(), 20u);
   std::vector<double> gaps;
   for (std::size_t i = 0; i + 1 < tips.size(); ++i) gaps.push_back(glm::length(tips[i + 1] - tips[i]));
-  std::vector<double> sorted = gaps;
-  std::sort(sorted.begin(), sorted.end());
-  const double median = sorted[sorted.size() / 2];
+  const double median = plumage::median(gaps);
   // Leave out the first tenth of the barbs: at the very base the vane is
   // narrower than a spacing and its stubs' tips are their roots.
   double worst = 0;

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "plumage/common/median.h"
 #include "plumage/common/error.h"
 #include "plumage/common/stats.h"
 #include "plumage/renderer/hair_bcsdf.h"
@@ -301,11 +302,6 @@ struct RibbonStats {
   double row_dark_fraction = 0;
   int pixels = 0;
 };
-
-float median(std::vector<float> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 RibbonStats ribbon_stats(const Image& img, const Image& mask) {
   RibbonStats s;

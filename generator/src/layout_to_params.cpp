@@ -7,6 +7,7 @@
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
+#include "plumage/common/median.h"
 #include "plumage/generator/builder.h"
 #include "plumage/generator/shaft_pose.h"
 
@@ -84,7 +85,7 @@ std::vector<glm::dvec2> vane_widths(const std::vector<double>& t, const VaneProf
   if (out.empty()) return out;
   std::vector<glm::dvec2> base;
   for (std::size_t i = 0; i < t.size() && t[i] < out.front().x; ++i)
-    if (std::isfinite(v.width_mm[i])) base.push_back({t[i], v.width_mm[i]});
+    base.push_back({t[i], v.width_mm[i]});
   out.insert(out.begin(), base.begin(), base.end());
   return out;
 }
@@ -117,11 +118,6 @@ Profile width_profile(const std::vector<glm::dvec2>& pts, double calamus_t, doub
   std::vector<glm::dvec2> k = p.knots();
   k.back().y = 0.0;
   return Profile(std::move(k));
-}
-
-double median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
-  return v[v.size() / 2];
 }
 
 // Where the vane begins: the first station where either side reaches a tenth of

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "plumage/common/error.h"
+#include "plumage/common/median.h"
 #include "steps.h"
 
 namespace plumage::analysis {
@@ -55,11 +56,7 @@ cv::Mat chevron_score(const cv::Mat& S, const cv::Mat& M, int tip_step) {
     density[y] = cv::sum(texture.row(y))[0] / w;
     dens.push_back(density[y]);
   }
-  double typical = 0;
-  if (!dens.empty()) {
-    std::nth_element(dens.begin(), dens.begin() + dens.size() / 2, dens.end());
-    typical = dens[dens.size() / 2];
-  }
+  const double typical = median(dens);
   cv::Mat diff(H, W, CV_32F, cv::Scalar(0));
   double up = 0, down = 0;  // summed positive and negative row peaks
   for (int y = 0; y < H; ++y) {
@@ -158,8 +155,7 @@ std::vector<double> robust_smooth(const std::vector<cv::Point2d>& path, int half
   for (int i = 0; i < n; ++i) {
     window.clear();
     for (int k = std::max(0, i - half); k <= std::min(n - 1, i + half); ++k) window.push_back(path[k].x);
-    std::nth_element(window.begin(), window.begin() + window.size() / 2, window.end());
-    fit[i] = window[window.size() / 2];
+    fit[i] = median(window);
   }
   std::vector<double> tricube(half + 1);
   for (int d = 0; d <= half; ++d) {
@@ -169,9 +165,7 @@ std::vector<double> robust_smooth(const std::vector<cv::Point2d>& path, int half
   std::vector<double> robust(n), resid(n);
   for (int round = 0; round < 3; ++round) {
     for (int i = 0; i < n; ++i) resid[i] = std::fabs(path[i].x - fit[i]);
-    std::vector<double> sorted = resid;
-    std::nth_element(sorted.begin(), sorted.begin() + n / 2, sorted.end());
-    const double c = 4.685 * std::max(1.0, 1.4826 * sorted[n / 2]);
+    const double c = 4.685 * std::max(1.0, 1.4826 * median(resid));
     for (int i = 0; i < n; ++i) {
       const double u = resid[i] / c;
       robust[i] = u < 1 ? (1 - u * u) * (1 - u * u) : 0.0;
@@ -211,9 +205,7 @@ void straighten_faded_tip(std::vector<cv::Point2d>& path, const cv::Mat& ridge, 
     for (int k = std::max(0, i - half); k <= std::min(n - 1, i + half); ++k) s += along[k], ++c;
     smooth[i] = s / c;
   }
-  std::vector<float> middle(along.begin() + n / 5, along.end() - n / 5);
-  std::nth_element(middle.begin(), middle.begin() + middle.size() / 2, middle.end());
-  const float typical = middle[middle.size() / 2];
+  const float typical = median(std::vector<float>(along.begin() + n / 5, along.end() - n / 5));
   if (!(typical > 0)) return;
   // Index order from the tip inward.
   auto at = [&](int k) { return tip_step > 0 ? n - 1 - k : k; };
@@ -399,8 +391,7 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   std::vector<int> widths;
   for (int y = r0; y <= r1; ++y)
     if (width[y] > 0) widths.push_back(width[y]);
-  std::nth_element(widths.begin(), widths.begin() + widths.size() / 2, widths.end());
-  const double corridor = std::max(3.0, 0.1 * widths[widths.size() / 2]);
+  const double corridor = std::max(3.0, 0.1 * median(widths));
   const std::vector<double> centre = robust_smooth(rows_path, std::max(10, int(rows_path.size()) / 4));
   bool strays = false;
   for (std::size_t i = 0; i < rows_path.size(); ++i) strays |= std::fabs(rows_path[i].x - centre[i]) > corridor;
@@ -425,8 +416,7 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   std::vector<int> quill;
   for (int k = 0; k < calamus.run; ++k) quill.push_back(width[calamus_at_bottom ? r1 - k : r0 + k]);
   if (quill.size() >= 3) {
-    std::nth_element(quill.begin(), quill.begin() + quill.size() / 2, quill.end());
-    shaft.width_px = quill[quill.size() / 2];
+    shaft.width_px = median(quill);
   } else {
     shaft.width_px = std::max(2.0, 0.008 * (r1 - r0));
   }

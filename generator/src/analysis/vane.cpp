@@ -6,6 +6,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "plumage/common/median.h"
 #include "steps.h"
 
 namespace plumage::analysis {
@@ -63,12 +64,6 @@ Unrolled unroll(const cv::Mat& bgr, const Component& f, const BSpline2& shaft, i
   cv::Mat mxo = mx - float(f.bbox.x), myo = my - float(f.bbox.y);
   cv::remap(f.mask, u.mask, mxo, myo, cv::INTER_NEAREST, cv::BORDER_CONSTANT, cv::Scalar(0));
   return u;
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 // Barb spacing along the shaft: the dominant period of brightness along lines
