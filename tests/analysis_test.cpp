@@ -258,6 +258,67 @@ TEST(AnalysisSynthetic, ShaftStaysOnTheRachisBesideAStrongerLine) {
   }
 }
 
+// Photo pixels have their origin at the photo's top-left corner (docs/layout-format.md):
+// a photo W pixels wide turned left to right puts what was at u at W - u. So the
+// analysis of a mirrored photo is the mirror of the analysis, to well under a pixel,
+// also where the photo is analysed downscaled; a layout in OpenCV's pixel-centre
+// coordinates is off by half a pixel in each axis (one pixel between the two) and
+// sets the renders of photo-to-feather that far off the photo.
+TEST(AnalysisSynthetic, MirroredPhotoGivesTheMirroredLayout) {
+  SyntheticFeather F;
+  const Image img = F.draw();
+  for (const bool across : {true, false})
+    for (const double max_mp : {16.0, 0.25 * 0.63}) {  // 900 x 700: whole, and halved
+      SCOPED_TRACE(std::string(across ? "left to right" : "top to bottom") + ", max " + std::to_string(max_mp) + " MP");
+      Image mirrored(img.width, img.height, 3);
+      for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x)
+          mirrored.set_rgb(across ? img.width - 1 - x : x, across ? y : img.height - 1 - y, img.rgb(x, y));
+      const fs::path dir = temp_dir("mirror");
+      write_image(dir / "a.png", img);
+      write_image(dir / "b.png", mirrored);
+      AnalyzeOptions opt;
+      opt.mm_per_px = 0.1;
+      opt.max_megapixels = max_mp;
+      const PhotoAnalysis A = analyze_photo(dir / "a.png", opt), B = analyze_photo(dir / "b.png", opt);
+      ASSERT_EQ(A.layout.feathers.size(), 1u);
+      ASSERT_EQ(B.layout.feathers.size(), 1u);
+      const FeatherLayout &a = A.layout.feathers[0], &b = B.layout.feathers[0];
+      const auto mirror = [&](const glm::dvec2& p) {
+        return across ? glm::dvec2(img.width - p.x, p.y) : glm::dvec2(p.x, img.height - p.y);
+      };
+      // The shafts: their mean signed distance across the drawn (mirrored) rachis.
+      const glm::dvec2 c0 = mirror(F.calamus), d0 = glm::normalize(mirror(F.tip()) - c0), n0(-d0.y, d0.x);
+      const auto across_rachis = [&](const FeatherLayout& f, bool mirrored) {
+        double sum = 0;
+        for (int i = 0; i <= 100; ++i) {
+          const glm::dvec2 p = apply(f.image_from_feather, f.shaft_mm.eval(i / 100.0));
+          sum += glm::dot((mirrored ? mirror(p) : p) - c0, n0);
+        }
+        return sum / 101.0;
+      };
+      const double px = 1.0 / A.layout.analysis_downscale;  // photo pixels per analysed pixel
+      const double sa = across_rachis(a, true), sb = across_rachis(b, false);
+      EXPECT_LT(std::fabs(sb - sa), 0.2 * px) << "across the rachis " << sa << " and " << sb << " px";
+      // The outlines' centroids (of the polygons' areas).
+      const auto centroid = [](const std::vector<glm::dvec2>& poly) {
+        glm::dvec2 c(0);
+        double area = 0;
+        for (std::size_t i = 0; i < poly.size(); ++i) {
+          const glm::dvec2 &p = poly[i], &q = poly[(i + 1) % poly.size()];
+          const double cross = p.x * q.y - q.x * p.y;
+          area += cross;
+          c += (p + q) * cross;
+        }
+        return c / (3.0 * area);
+      };
+      std::vector<glm::dvec2> am;
+      for (const auto& p : a.outline_px) am.push_back(mirror(p));
+      const glm::dvec2 ca = centroid(am), cb = centroid(b.outline_px);
+      EXPECT_LT(glm::length(cb - ca), 0.2 * px) << "outline centroids " << ca.x << ", " << ca.y << " and " << cb.x << ", " << cb.y;
+    }
+}
+
 TEST(AnalysisSynthetic, WritesAlbedoLayoutAndOverlayTogether) {
   SyntheticFeather F;
   const fs::path dir = temp_dir("outputs");

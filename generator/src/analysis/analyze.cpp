@@ -38,6 +38,12 @@ glm::dmat3x2 feather_from_photo(const glm::dvec2& calamus, const glm::dvec2& tip
                       glm::dvec2(-s * glm::dot(X, qc), -s * glm::dot(d, qc)));
 }
 
+// The analysis works in OpenCV's pixels, whose pixel (i, j) has its centre at (i, j),
+// on the photo downscaled by `ds`; the layout's photo pixels have their origin at the
+// top-left corner of the top-left pixel (docs/layout-format.md), so that the centre of
+// working pixel (i, j) lies at ((i + 1/2) / ds, (j + 1/2) / ds) in them.
+glm::dvec2 photo_from_work(const glm::dvec2& p, double ds) { return (p + 0.5) / ds; }
+
 std::vector<double> scaled(const std::vector<double>& v, double k) {
   std::vector<double> out(v);
   for (double& x : out) x *= k;
@@ -235,7 +241,7 @@ void analyze_feather(const Photo& photo, const Segmentation& seg, const Componen
   // +-10 % along the shaft (closed-loop study, feather 6 on white).
   const BSpline2 shaft_px = fit_spline(pts, kShaftControlPoints);
   clock.lap("shaft");
-  const glm::dvec2 cal = shaft_px.eval(0.0) / ds, tip = shaft_px.eval(1.0) / ds;
+  const glm::dvec2 cal = photo_from_work(shaft_px.eval(0.0), ds), tip = photo_from_work(shaft_px.eval(1.0), ds);
 
   FeatherLayout f;
   f.id = k;
@@ -243,11 +249,12 @@ void analyze_feather(const Photo& photo, const Segmentation& seg, const Componen
                int(std::ceil(comp.bbox.width / ds)), int(std::ceil(comp.bbox.height / ds))};
   std::vector<cv::Point> poly;
   cv::approxPolyDP(comp.contour, poly, 0.75, true);
-  for (const auto& p : poly) f.outline_px.push_back(glm::dvec2(p.x, p.y) / ds);
+  for (const auto& p : poly) f.outline_px.push_back(photo_from_work(glm::dvec2(p.x, p.y), ds));
   f.feather_from_image = feather_from_photo(cal, tip, L.scale.mm_per_px);
   f.image_from_feather = inverse_affine(f.feather_from_image);
+  // feather_from_image after photo_from_work.
   const glm::dmat3x2 f_from_work(f.feather_from_image[0] / ds, f.feather_from_image[1] / ds,
-                                 f.feather_from_image[2]);
+                                 apply(f.feather_from_image, photo_from_work({0.0, 0.0}, ds)));
   std::vector<glm::dvec2> cps;
   for (const auto& c : shaft_px.control_points()) cps.push_back(apply(f_from_work, c));
   f.shaft_mm = BSpline2(cps);
