@@ -401,7 +401,10 @@ void score(CaseResult& r, const Truth& t, const PhotoAnalysis& A, const View& v)
   const double Lpx = t.shaft.length();
   // Analysed shaft in photo pixels, densely, and the symmetric worst distance.
   std::vector<glm::dvec2> ap;
-  for (int i = 0; i <= 400; ++i) ap.push_back(apply(f.image_from_feather, f.shaft_mm.eval(i / 400.0)));
+  // The layout's photo pixels have their origin at the image's corner; the truth
+  // (View::to_px, Mask) puts pixel (i, j)'s centre at (i, j).
+  for (int i = 0; i <= 400; ++i)
+    ap.push_back(apply(f.image_from_feather, f.shaft_mm.eval(i / 400.0)) - glm::dvec2(0.5));
   const Polyline found(ap);
   double worst = 0;
   for (const auto& q : found.p) {
