@@ -37,6 +37,15 @@ TEST(Stats, ResetZeroesCountersAndClearsValues) {
   EXPECT_EQ(g_hits.value(), 0);
 }
 
+TEST(Stats, AddedValuesAccumulateFromZeroUntilReset) {
+  stats_reset();
+  EXPECT_EQ(stats_add_value("StatsTest/Render (s)", 1.25), 1.25);
+  EXPECT_EQ(stats_add_value("StatsTest/Render (s)", 2.5), 3.75);
+  EXPECT_EQ(stats_snapshot().at("StatsTest/Render (s)"), 3.75);
+  stats_reset();
+  EXPECT_EQ(stats_add_value("StatsTest/Render (s)", 0.5), 0.5);
+}
+
 TEST(Stats, CountersWithTheSameNameAreSummed) {
   stats_reset();
   StatCounter a("StatsTest/Shared"), b("StatsTest/Shared");

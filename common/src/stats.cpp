@@ -39,6 +39,12 @@ void stats_set_value(const std::string& name, double value) {
   r.values[name] = value;
 }
 
+double stats_add_value(const std::string& name, double value) {
+  Registry& r = registry();
+  std::lock_guard lock(r.mu);
+  return r.values[name] += value;
+}
+
 std::map<std::string, double> stats_snapshot() {
   Registry& r = registry();
   std::lock_guard lock(r.mu);

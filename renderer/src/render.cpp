@@ -179,8 +179,9 @@ Film render(const Camera& camera, const PathIntegrator& integrator, const Render
   }
   g_samples += samples;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  stats_set_value("Time/Render (s)", seconds);
-  stats_set_value("Renderer/Rays per second", seconds > 0 ? double(g_rays.value()) / seconds : 0.0);
+  // Over every render of the run (compare and photo-to-feather render two), as the ray count is.
+  const double total = stats_add_value("Time/Render (s)", seconds);
+  stats_set_value("Renderer/Rays per second", total > 0 ? double(g_rays.value()) / total : 0.0);
   return film;
 }
 

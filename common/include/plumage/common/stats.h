@@ -30,6 +30,9 @@ class StatCounter {
 
 // Timings and one-off values recorded during a run (e.g. "Time/BVH build (s)").
 void stats_set_value(const std::string& name, double value);
+// Adds to a value (from 0 when not yet recorded), e.g. the time of each of several
+// renders in one run; returns the new total.
+double stats_add_value(const std::string& name, double value);
 
 // All counters and values, name -> value.
 std::map<std::string, double> stats_snapshot();
