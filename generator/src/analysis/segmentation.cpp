@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <opencv2/imgproc.hpp>
 
+#include "plumage/common/median.h"
 #include "steps.h"
 
 namespace plumage::analysis {
@@ -29,17 +30,10 @@ void border_statistics(const cv::Mat& bgr, cv::Vec3d& median, double& sigma) {
         take(x, y);
       else
         x = bgr.cols - b - 1;
-  for (int c = 0; c < 3; ++c) {
-    auto mid = ch[c].begin() + ch[c].size() / 2;
-    std::nth_element(ch[c].begin(), mid, ch[c].end());
-    median[c] = *mid;
-  }
-  auto mid = luma.begin() + luma.size() / 2;
-  std::nth_element(luma.begin(), mid, luma.end());
-  const double m = *mid;
+  for (int c = 0; c < 3; ++c) median[c] = plumage::median(std::move(ch[c]));
+  const double m = plumage::median(luma);
   for (double& v : luma) v = std::fabs(v - m);
-  std::nth_element(luma.begin(), mid, luma.end());
-  sigma = 1.4826 * *mid;  // MAD to a Gaussian sigma
+  sigma = 1.4826 * plumage::median(std::move(luma));  // MAD to a Gaussian sigma
 }
 
 }  // namespace
@@ -347,12 +341,7 @@ cv::Mat label_with_pale_parts(const cv::Mat& bgr, cv::Mat& bin, double sigma, co
       for (int x = 0; x < grey.cols; x += 2)
         if (w[x] > 0) spread.push_back(std::fabs(d[x]));
     }
-    double card_sigma = sigma;
-    if (!spread.empty()) {
-      auto mid = spread.begin() + std::ptrdiff_t(spread.size() / 2);
-      std::nth_element(spread.begin(), mid, spread.end());
-      card_sigma = 1.4826 * *mid;
-    }
+    const double card_sigma = spread.empty() ? sigma : 1.4826 * median(std::move(spread));
     level = std::max(kPaleLevels, 4.0 * card_sigma);
     if (round + 1 < kPaleRounds) not_card = bin | (lighter > 0.5 * level);
   }
