@@ -182,6 +182,39 @@ TEST(AnalysisSheet, CrossedFeathersAreReportedNotMerged) {
   fs::remove_all(dir);
 }
 
+TEST(AnalysisSheet, FeathersSideBySideWithOverlappingVanesAreReportedNotMerged) {
+  const fs::path dir = sheet_dir("side_by_side");
+  // Two feathers laid side by side, their vanes overlapping along their whole
+  // length (the blue-jay sheet's second and third tail feathers): one blob whose
+  // core is one piece, so it looks like one wide feather, but two quills leave
+  // its base. It is reported, never analysed as one invented feather.
+  SyntheticFeather a, b;
+  a.calamus = {330, 660};
+  b.calamus = {430, 655};
+  a.dir_deg = -90;
+  b.dir_deg = -91;
+  a.length = 520;
+  b.length = 500;
+  a.w_left = a.w_right = b.w_left = b.w_right = 60;
+  b.seed = 3;
+  write_image(dir / "pair.png", on_one_card(a, b));
+  try {
+    const PhotoAnalysis A = analyze_photo(dir / "pair.png", AnalyzeOptions{});
+    FAIL() << "the only region, two feathers side by side, was analysed as " << A.layout.feathers.size()
+           << " feather(s)";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("2 quills at its base"), std::string::npos) << e.what();
+  }
+  // Each of them alone is one feather.
+  for (const SyntheticFeather* t : {&a, &b}) {
+    write_image(dir / "one.png", t->draw());
+    const PhotoAnalysis A = analyze_photo(dir / "one.png", AnalyzeOptions{});
+    EXPECT_EQ(A.layout.feathers.size(), 1u);
+    EXPECT_TRUE(A.layout.skipped.empty());
+  }
+  fs::remove_all(dir);
+}
+
 // Where the analysed feather matching a true one starts and ends, in photo
 // pixels: the one whose shaft's middle is nearest the true vane's middle.
 std::pair<glm::dvec2, glm::dvec2> matching_shaft_ends(const Layout& L, const SyntheticFeather& t) {

@@ -102,8 +102,8 @@ class StageClock {
 
 namespace {
 // Shaft, vanes and albedo of one feather, appended to the layout and the overlay list.
-void analyze_feather(const Photo& photo, const Segmentation& seg, const Component& comp, int k,
-                     const AnalyzeOptions& opt, Layout& L, PhotoAnalysis& out,
+void analyze_feather(const Photo& photo, const Segmentation& seg, const Component& comp, const Shaft& shaft,
+                     int k, const AnalyzeOptions& opt, Layout& L, PhotoAnalysis& out,
                      std::vector<OverlayFeather>& drawn, StageClock& clock);
 }  // namespace
 
@@ -202,14 +202,22 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
            "lay them apart on the card and photograph them again, or pick another with --feather");
       continue;
     }
-    if (comp.separated_from > 0) {
-      std::ostringstream cut;
-      cut << "feather " << k << ": cut out of " << comp.separated_from
-          << " touching feathers along the neck between them; where they overlapped its vane may be clipped";
-      out.warnings.push_back(cut.str());
-    }
     try {
-      analyze_feather(photo, seg, comp, k, opt, L, out, drawn, clock);
+      const Shaft shaft = trace_shaft(photo.bgr, comp);
+      if (shaft.quills > 1) {
+        skip(comp, k, "unseparated",
+             "is several feathers that lie side by side and could not be told apart (" +
+                 std::to_string(shaft.quills) + " quills at its base)",
+             "lay them apart on the card and photograph them again, or pick another with --feather");
+        continue;
+      }
+      if (comp.separated_from > 0) {
+        std::ostringstream cut;
+        cut << "feather " << k << ": cut out of " << comp.separated_from
+            << " touching feathers along the neck between them; where they overlapped its vane may be clipped";
+        out.warnings.push_back(cut.str());
+      }
+      analyze_feather(photo, seg, comp, shaft, k, opt, L, out, drawn, clock);
     } catch (const Error& e) {
       // Errors from inside a stage do not know the file; name it and the feather.
       if (!e.where().file.empty()) throw;
@@ -227,12 +235,11 @@ namespace {
 
 constexpr int kShaftControlPoints = 6;
 
-void analyze_feather(const Photo& photo, const Segmentation& seg, const Component& comp, int k,
-                     const AnalyzeOptions& opt, Layout& L, PhotoAnalysis& out,
+void analyze_feather(const Photo& photo, const Segmentation& seg, const Component& comp, const Shaft& shaft,
+                     int k, const AnalyzeOptions& opt, Layout& L, PhotoAnalysis& out,
                      std::vector<OverlayFeather>& drawn, StageClock& clock) {
   const double ds = photo.downscale;
   const double mm_per_work_px = L.scale.mm_per_px / ds;
-  const Shaft shaft = trace_shaft(photo.bgr, comp);
   std::vector<glm::dvec2> pts;
   for (const auto& p : shaft.path) pts.push_back({p.x, p.y});
   // Six control points: the rachis bends smoothly, and with eight the fit follows

@@ -304,6 +304,45 @@ CalamusEnd calamus_end(const std::vector<int>& width, const cv::Mat& ridge, int 
   return end;
 }
 
+// How many quills leave the calamus end side by side: 2 when two feathers lie
+// side by side with overlapping vanes (a blob whose core is one piece, so
+// segmentation took it for one feather), else 1. In the rows from the calamus
+// end up to where the mask is half its widest, a row holds two quills when its
+// mask falls into pieces with a gap of at least kMinGap px; two quills are
+// there when such rows run on for a tenth of the feather's rows (at least
+// kMinRows), with a median gap of at least a fifth of the widest row. A glue
+// band across one quill, a downy tuft beside it, or a split at the base makes
+// a few such rows, or a narrow gap (docs/analysis.md, "Sheets").
+int quills_at_calamus(const cv::Mat& M, const std::vector<int>& width, int r0, int r1, bool calamus_at_bottom) {
+  constexpr int kMinGap = 4, kMinRows = 8;
+  constexpr double kMinStretch = 0.1, kMinGapOfWidest = 0.2;
+  const int wmax = *std::max_element(width.begin() + r0, width.begin() + r1 + 1);
+  int stretch = 0, longest = 0;
+  std::vector<double> gaps, longest_gaps;
+  for (int k = 0; k <= r1 - r0; ++k) {
+    const int y = calamus_at_bottom ? r1 - k : r0 + k;
+    if (width[y] >= 0.5 * wmax) break;
+    const uchar* m = M.ptr<uchar>(y);
+    int gap = 0, last_end = -1;
+    for (int x = 0; x < M.cols; ++x) {
+      if (!m[x]) continue;
+      if (last_end >= 0 && x - last_end - 1 > gap) gap = x - last_end - 1;
+      last_end = x;
+    }
+    if (gap >= kMinGap) {
+      ++stretch;
+      gaps.push_back(gap);
+      if (stretch > longest) longest = stretch, longest_gaps = gaps;
+    } else {
+      stretch = 0;
+      gaps.clear();
+    }
+  }
+  const bool two = longest >= std::max(double(kMinRows), kMinStretch * (r1 - r0)) &&
+                   median(longest_gaps) >= kMinGapOfWidest * wmax;
+  return two ? 2 : 1;
+}
+
 }  // namespace
 
 Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
@@ -364,6 +403,9 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
 
   const CalamusEnd calamus = calamus_end(width, ridge, r0, r1);
   const bool calamus_at_bottom = calamus.at_bottom;
+  Shaft shaft;
+  shaft.quills = quills_at_calamus(M, width, r0, r1, calamus_at_bottom);
+  if (shaft.quills > 1) return shaft;
 
   // Dynamic programming: the path maximising the line score plus the vanes'
   // chevron score, moving at most two columns per row, with a small price per
@@ -401,7 +443,6 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
 
   straighten_faded_tip(rows_path, ridge, M, calamus_at_bottom ? -1 : +1);
 
-  Shaft shaft;
   const int step = std::max(1, (r1 - r0) / 200);
   std::vector<cv::Point2d> sampled;
   for (int i = 0; i < int(rows_path.size()); i += step) sampled.push_back(rows_path[i]);

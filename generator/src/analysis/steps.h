@@ -69,6 +69,9 @@ struct Shaft {
   std::vector<cv::Point2d> path;  // calamus to tip, working pixels
   double width_px = 0;            // at the calamus
   double confidence = 0;
+  // 2: two quills leave the calamus end side by side (two feathers with
+  // overlapping vanes, one blob); then nothing else is traced.
+  int quills = 1;
 };
 Shaft trace_shaft(const cv::Mat& bgr, const Component& feather);
 // Least-squares uniform cubic B-spline through ordered points, ends clamped.
