@@ -52,7 +52,8 @@ for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
     name = next((n for n in counts if os.path.splitext(n)[0] == stem), stem)
     rc, wall = open(rc_file).read().split()
     eye = counts.get(name, {}).get("feathers", 0)
-    eye_text = str(eye) if eye else "not counted"
+    rng = counts.get(name, {}).get("range")
+    eye_text = (f"{eye} ({rng[0]}–{rng[1]})" if rng else str(eye)) if eye else "not counted"
     if rc != "0":
         err = open(os.path.join(out, stem + ".analyze.txt")).read().strip().splitlines()
         rows.append(f"| {name} | {eye_text} | — | — | — | — | — | {err[-1] if err else ''} | {rc}, {float(wall):.2f} |")
