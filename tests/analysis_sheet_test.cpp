@@ -215,6 +215,43 @@ TEST(AnalysisSheet, FeathersSideBySideWithOverlappingVanesAreReportedNotMerged) 
   fs::remove_all(dir);
 }
 
+TEST(AnalysisSheet, ARowOfFeathersOnAStringIsReportedNotMerged) {
+  const fs::path dir = sheet_dir("row");
+  // Seven small feathers mounted side by side on a string, each vane over the
+  // next (the robin sheet's rows of coverts): one blob, longest along the string,
+  // with a tip for each feather along one side. It is reported, never analysed as
+  // one long invented feather.
+  std::vector<SyntheticFeather> row(7);
+  for (int i = 0; i < 7; ++i) {
+    SyntheticFeather& f = row[std::size_t(i)];
+    f.calamus = {150.0 + 75.0 * i, 520.0};
+    f.dir_deg = -80;
+    f.length = 220;
+    f.w_left = f.w_right = 45;
+    f.seed = unsigned(10 + i);
+  }
+  Image sheet = row[0].draw();
+  for (int i = 1; i < 7; ++i) {
+    const Image B = row[std::size_t(i)].draw();
+    for (int y = 0; y < sheet.height; ++y)
+      for (int x = 0; x < sheet.width; ++x)
+        for (int c = 0; c < 3; ++c) sheet.at(x, y)[c] = std::min(sheet.at(x, y)[c], B.at(x, y)[c]);
+  }
+  write_image(dir / "row.png", sheet);
+  try {
+    const PhotoAnalysis A = analyze_photo(dir / "row.png", AnalyzeOptions{});
+    FAIL() << "the only region, a row of seven feathers, was analysed as " << A.layout.feathers.size()
+           << " feather(s)";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("tips along one side"), std::string::npos) << e.what();
+  }
+  // One of them alone is one feather.
+  write_image(dir / "one.png", row[3].draw());
+  const PhotoAnalysis A = analyze_photo(dir / "one.png", AnalyzeOptions{});
+  EXPECT_EQ(A.layout.feathers.size(), 1u);
+  fs::remove_all(dir);
+}
+
 // Where the analysed feather matching a true one starts and ends, in photo
 // pixels: the one whose shaft's middle is nearest the true vane's middle.
 std::pair<glm::dvec2, glm::dvec2> matching_shaft_ends(const Layout& L, const SyntheticFeather& t) {

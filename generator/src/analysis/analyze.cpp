@@ -211,6 +211,13 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
              "lay them apart on the card and photograph them again, or pick another with --feather");
         continue;
       }
+      if (shaft.tips >= kMinRowTips) {
+        skip(comp, k, "unseparated",
+             "is a row of feathers side by side that could not be told apart (" + std::to_string(shaft.tips) +
+                 " tips along one side)",
+             "lay them apart on the card and photograph them again, or pick another with --feather");
+        continue;
+      }
       if (comp.separated_from > 0) {
         std::ostringstream cut;
         cut << "feather " << k << ": cut out of " << comp.separated_from

@@ -343,6 +343,56 @@ int quills_at_calamus(const cv::Mat& M, const std::vector<int>& width, int r0, i
   return two ? 2 : 1;
 }
 
+// How many tips stand out along the straightened mask's more lobed side. A
+// feather's outline rises from the base to its widest and falls to the tip on
+// each side, one broad lobe with perhaps a notch or two where the vane splits; a
+// row of small feathers mounted side by side on a string (one blob, its long axis
+// along the string) shows a tip for each feather along one side. Per row, the
+// mask's extent on each side of the frame's middle column, averaged over
+// 2 max(3, rows / 60) + 1 rows; a tip is a local maximum of it whose prominence
+// (how far it stands above the higher of the lowest points reached on either
+// side before the profile rises above it again) is at least kTipProminence of the
+// largest extent on either side.
+int tips_along_a_side(const cv::Mat& M, int r0, int r1) {
+  constexpr double kTipProminence = 0.25;
+  const int n = r1 - r0 + 1;
+  const double middle = 0.5 * M.cols;
+  std::vector<double> left(n, 0.0), right(n, 0.0);
+  for (int y = r0; y <= r1; ++y) {
+    const uchar* m = M.ptr<uchar>(y);
+    int lo = -1, hi = -1;
+    for (int x = 0; x < M.cols; ++x)
+      if (m[x]) hi = x, lo = lo < 0 ? x : lo;
+    if (lo < 0) continue;
+    left[y - r0] = std::max(0.0, middle - lo);
+    right[y - r0] = std::max(0.0, hi - middle);
+  }
+  const int half = std::max(3, n / 60);
+  auto smooth = [&](const std::vector<double>& v) {
+    std::vector<double> out(n, 0.0);
+    for (int i = 0; i < n; ++i) {
+      double sum = 0;
+      for (int k = std::max(0, i - half); k <= std::min(n - 1, i + half); ++k) sum += v[k];
+      out[i] = sum / (2 * half + 1);  // rows past either end count as empty
+    }
+    return out;
+  };
+  const std::vector<double> L = smooth(left), R = smooth(right);
+  const double widest = std::max(*std::max_element(L.begin(), L.end()), *std::max_element(R.begin(), R.end()));
+  auto tips = [&](const std::vector<double>& v) {
+    int count = 0;
+    for (int i = 1; i + 1 < n; ++i) {
+      if (!(v[i] >= v[i - 1] && v[i] > v[i + 1])) continue;
+      double low_before = v[i], low_after = v[i];
+      for (int k = i - 1; k >= 0 && v[k] <= v[i]; --k) low_before = std::min(low_before, v[k]);
+      for (int k = i + 1; k < n && v[k] <= v[i]; ++k) low_after = std::min(low_after, v[k]);
+      count += v[i] - std::max(low_before, low_after) >= kTipProminence * widest;
+    }
+    return count;
+  };
+  return std::max(tips(L), tips(R));
+}
+
 }  // namespace
 
 Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
@@ -405,7 +455,8 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   const bool calamus_at_bottom = calamus.at_bottom;
   Shaft shaft;
   shaft.quills = quills_at_calamus(M, width, r0, r1, calamus_at_bottom);
-  if (shaft.quills > 1) return shaft;
+  shaft.tips = tips_along_a_side(M, r0, r1);
+  if (shaft.quills > 1 || shaft.tips >= kMinRowTips) return shaft;
 
   // Dynamic programming: the path maximising the line score plus the vanes'
   // chevron score, moving at most two columns per row, with a small price per

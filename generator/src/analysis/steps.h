@@ -72,7 +72,12 @@ struct Shaft {
   // 2: two quills leave the calamus end side by side (two feathers with
   // overlapping vanes, one blob); then nothing else is traced.
   int quills = 1;
+  // Tips standing out along the mask's more lobed side (one or two for a
+  // feather); kMinRowTips or more: a row of feathers side by side on a string,
+  // one blob; then nothing else is traced either.
+  int tips = 1;
 };
+inline constexpr int kMinRowTips = 6;
 Shaft trace_shaft(const cv::Mat& bgr, const Component& feather);
 // Least-squares uniform cubic B-spline through ordered points, ends clamped.
 BSpline2 fit_spline(const std::vector<glm::dvec2>& points, int num_control_points);
