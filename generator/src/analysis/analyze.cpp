@@ -184,6 +184,9 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
     L.skipped.push_back(std::move(s));
     skipped_drawn.push_back({k, comp.contour, std::string(reason) == "touches_border"});
   };
+  // What to do about a region that holds several feathers.
+  const std::string lay_apart =
+      "lay them apart on the card and photograph them again, or pick another with --feather";
   for (int k = 1; k <= count; ++k) {
     if (opt.feather && *opt.feather != k) continue;
     const Component& comp = seg.feathers[k - 1];
@@ -198,8 +201,7 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
       what << "is several feathers that touch or overlap and could not be told apart ("
            << (comp.cores > 1 ? std::to_string(comp.cores) + " cores" : "fills " +
                std::to_string(int(std::lround(100 * comp.solidity))) + " % of its hull") << ")";
-      skip(comp, k, "unseparated", what.str(),
-           "lay them apart on the card and photograph them again, or pick another with --feather");
+      skip(comp, k, "unseparated", what.str(), lay_apart);
       continue;
     }
     try {
@@ -208,14 +210,14 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
         skip(comp, k, "unseparated",
              "is several feathers that lie side by side and could not be told apart (" +
                  std::to_string(shaft.quills) + " quills at its base)",
-             "lay them apart on the card and photograph them again, or pick another with --feather");
+             lay_apart);
         continue;
       }
       if (shaft.tips >= kMinRowTips) {
         skip(comp, k, "unseparated",
              "is a row of feathers side by side that could not be told apart (" + std::to_string(shaft.tips) +
                  " tips along one side)",
-             "lay them apart on the card and photograph them again, or pick another with --feather");
+             lay_apart);
         continue;
       }
       if (comp.separated_from > 0) {

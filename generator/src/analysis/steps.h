@@ -72,8 +72,8 @@ struct Shaft {
   // 2: two quills leave the calamus end side by side (two feathers with
   // overlapping vanes, one blob); then nothing else is traced.
   int quills = 1;
-  // Tips standing out along the mask's more lobed side (one or two for a
-  // feather); kMinRowTips or more: a row of feathers side by side on a string,
+  // Tips standing out along the mask's more lobed side (1-4 on the photos'
+  // feathers); kMinRowTips or more: a row of feathers side by side on a string,
   // one blob; then nothing else is traced either.
   int tips = 1;
 };
