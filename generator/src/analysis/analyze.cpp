@@ -184,9 +184,11 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
     L.skipped.push_back(std::move(s));
     skipped_drawn.push_back({k, comp.contour, std::string(reason) == "touches_border"});
   };
-  // What to do about a region that holds several feathers.
-  const std::string lay_apart =
-      "lay them apart on the card and photograph them again, or pick another with --feather";
+  // A region that holds several feathers, told by segmentation or by the shaft tracer.
+  auto skip_several = [&](const Component& comp, int k, const std::string& what) {
+    skip(comp, k, "unseparated", what,
+         "lay them apart on the card and photograph them again, or pick another with --feather");
+  };
   for (int k = 1; k <= count; ++k) {
     if (opt.feather && *opt.feather != k) continue;
     const Component& comp = seg.feathers[k - 1];
@@ -201,23 +203,13 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
       what << "is several feathers that touch or overlap and could not be told apart ("
            << (comp.cores > 1 ? std::to_string(comp.cores) + " cores" : "fills " +
                std::to_string(int(std::lround(100 * comp.solidity))) + " % of its hull") << ")";
-      skip(comp, k, "unseparated", what.str(), lay_apart);
+      skip_several(comp, k, what.str());
       continue;
     }
     try {
       const Shaft shaft = trace_shaft(photo.bgr, comp);
-      if (shaft.quills > 1) {
-        skip(comp, k, "unseparated",
-             "is several feathers that lie side by side and could not be told apart (" +
-                 std::to_string(shaft.quills) + " quills at its base)",
-             lay_apart);
-        continue;
-      }
-      if (shaft.tips >= kMinRowTips) {
-        skip(comp, k, "unseparated",
-             "is a row of feathers side by side that could not be told apart (" + std::to_string(shaft.tips) +
-                 " tips along one side)",
-             lay_apart);
+      if (shaft.several_feathers()) {
+        skip_several(comp, k, shaft.several_feathers_why());
         continue;
       }
       if (comp.separated_from > 0) {

@@ -416,6 +416,20 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   const cv::Matx23d S_to_mask(n.x, e.x, o.x - f.bbox.x, n.y, e.y, o.y - f.bbox.y);
   cv::warpAffine(f.mask, M, S_to_mask, cv::Size(W, H), cv::INTER_NEAREST | cv::WARP_INVERSE_MAP);
 
+  // Rows the feather spans, and its width in each.
+  std::vector<int> width(H, 0);
+  int r0 = H, r1 = -1;
+  for (int y = 0; y < H; ++y) {
+    width[y] = cv::countNonZero(M.row(y));
+    if (width[y] > 0) r0 = std::min(r0, y), r1 = std::max(r1, y);
+  }
+  if (r1 - r0 < 8) throw Error("feather too short to trace a shaft");
+
+  // A row of feathers needs no ridge: its outline says what it is.
+  Shaft shaft;
+  shaft.tips = tips_along_a_side(M, r0, r1);
+  if (shaft.several_feathers()) return shaft;
+
   // Ridge strength: how much a pixel differs, in the same direction, from the
   // vane on both sides of it (a line detector, so vane edges and splits, which
   // differ on one side only, score nothing), taken over a few widths and after
@@ -442,21 +456,10 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
       }
     }
 
-  // Rows the feather spans, and its width in each.
-  std::vector<int> width(H, 0);
-  int r0 = H, r1 = -1;
-  for (int y = 0; y < H; ++y) {
-    width[y] = cv::countNonZero(M.row(y));
-    if (width[y] > 0) r0 = std::min(r0, y), r1 = std::max(r1, y);
-  }
-  if (r1 - r0 < 8) throw Error("feather too short to trace a shaft");
-
   const CalamusEnd calamus = calamus_end(width, ridge, r0, r1);
   const bool calamus_at_bottom = calamus.at_bottom;
-  Shaft shaft;
   shaft.quills = quills_at_calamus(M, width, r0, r1, calamus_at_bottom);
-  shaft.tips = tips_along_a_side(M, r0, r1);
-  if (shaft.quills > 1 || shaft.tips >= kMinRowTips) return shaft;
+  if (shaft.several_feathers()) return shaft;
 
   // Dynamic programming: the path maximising the line score plus the vanes'
   // chevron score, moving at most two columns per row, with a small price per
@@ -515,6 +518,16 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   const double contrast = on_path / rows_path.size() / std::max(mean_ridge, 1e-6);
   shaft.confidence = std::clamp((contrast - 1.0) / 3.0, 0.0, 1.0);
   return shaft;
+}
+
+std::string Shaft::several_feathers_why() const {
+  if (quills > 1)
+    return "is several feathers that lie side by side and could not be told apart (" + std::to_string(quills) +
+           " quills at its base)";
+  if (tips >= kMinRowTips)
+    return "is a row of feathers side by side that could not be told apart (" + std::to_string(tips) +
+           " tips along one side)";
+  return {};
 }
 
 BSpline2 fit_spline(const std::vector<glm::dvec2>& pts, int ncp) {

@@ -65,6 +65,7 @@ struct GridScale {
 GridScale detect_grid(const cv::Mat& bgr, const cv::Mat& feather_mask);
 
 // shaft.cpp -------------------------------------------------------------------
+inline constexpr int kMinRowTips = 6;
 struct Shaft {
   std::vector<cv::Point2d> path;  // calamus to tip, working pixels
   double width_px = 0;            // at the calamus
@@ -76,8 +77,11 @@ struct Shaft {
   // feathers); kMinRowTips or more: a row of feathers side by side on a string,
   // one blob; then nothing else is traced either.
   int tips = 1;
+  // Two quills or a row's tips: the region holds several feathers, and why, for
+  // its warning ("is several feathers that lie side by side ..."); empty for one.
+  bool several_feathers() const { return quills > 1 || tips >= kMinRowTips; }
+  std::string several_feathers_why() const;
 };
-inline constexpr int kMinRowTips = 6;
 Shaft trace_shaft(const cv::Mat& bgr, const Component& feather);
 // Least-squares uniform cubic B-spline through ordered points, ends clamped.
 BSpline2 fit_spline(const std::vector<glm::dvec2>& points, int num_control_points);
