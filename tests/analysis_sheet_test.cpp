@@ -244,6 +244,32 @@ TEST(AnalysisSheet, ARowOfFeathersOnAStringIsReportedNotMerged) {
   fs::remove_all(dir);
 }
 
+TEST(AnalysisSheet, AFanOfOverlappingFeathersIsReportedNotMerged) {
+  const fs::path dir = sheet_dir("fan");
+  // Nine flight feathers spread like a wing, their quills at one wrist and each
+  // vane over the next (the goldfinch sheet's spread wing): one compact, convex
+  // blob with one core, whose rachises and edges fan out from the wrist. It is
+  // reported, never analysed as one invented feather.
+  std::vector<SyntheticFeather> fan(9);
+  for (int i = 0; i < 9; ++i) {
+    SyntheticFeather& f = fan[std::size_t(i)];
+    f.calamus = {640, 600};
+    f.dir_deg = -175.0 + 12.0 * i;
+    f.length = 480;
+    f.w_left = 30;
+    f.w_right = 45;
+    f.seed = unsigned(20 + i);
+  }
+  write_image(dir / "fan.png", on_one_card(fan));
+  const std::string why = refusal(dir / "fan.png");
+  EXPECT_NE(why.find("is a fan of overlapping feathers"), std::string::npos) << why;
+  // One of them alone is one feather.
+  write_image(dir / "one.png", fan[4].draw());
+  const PhotoAnalysis A = analyze_photo(dir / "one.png", AnalyzeOptions{});
+  EXPECT_EQ(A.layout.feathers.size(), 1u);
+  fs::remove_all(dir);
+}
+
 // Where the analysed feather matching a true one starts and ends, in photo
 // pixels: the one whose shaft's middle is nearest the true vane's middle.
 std::pair<glm::dvec2, glm::dvec2> matching_shaft_ends(const Layout& L, const SyntheticFeather& t) {

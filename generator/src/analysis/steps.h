@@ -77,9 +77,12 @@ struct Shaft {
   // feathers); kMinRowTips or more: a row of feathers side by side on a string,
   // one blob; then nothing else is traced either.
   int tips = 1;
-  // Two quills or a row's tips: the region holds several feathers, and why, for
+  // > 0: the region's lines fan out from one point over this many degrees (a
+  // spread wing or tail, one blob); then nothing else is traced either.
+  double fan_deg = 0;
+  // Two quills, a row's tips or a fan: the region holds several feathers, and why, for
   // its warning ("is several feathers that lie side by side ..."); empty for one.
-  bool several_feathers() const { return quills > 1 || tips >= kMinRowTips; }
+  bool several_feathers() const { return quills > 1 || tips >= kMinRowTips || fan_deg > 0; }
   std::string several_feathers_why() const;
 };
 Shaft trace_shaft(const cv::Mat& bgr, const Component& feather);
