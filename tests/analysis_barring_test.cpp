@@ -43,7 +43,7 @@ Image barred(const SyntheticFeather& F, double period, double bar, float dark) {
 // the shaft, `bar` px long, darkened to `dark` of the brightness.
 Image chevron_barred(const SyntheticFeather& F, double bar_deg, double period, double bar, float dark) {
   Image img = F.draw();
-  const double cot = 1.0 / std::tan(bar_deg * synthetic::kPi / 180.0);
+  const double cot = 1.0 / std::tan(bar_deg * kPi / 180.0);
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
       const glm::dvec2 p(x + 0.5, y + 0.5);

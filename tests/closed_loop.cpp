@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "plumage/common/constants.h"
 #include "plumage/common/median.h"
 #include "plumage/common/bspline.h"
 #include "plumage/common/error.h"
@@ -26,7 +27,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kMarginFraction = 0.07;  // of the image height, around the feather
 
 // NaN for no readings, so that a bound on it fails.

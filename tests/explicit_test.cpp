@@ -17,6 +17,7 @@
 #include "cli_run.h"
 #include "one_barb.h"
 #include "plumage/common/bspline.h"
+#include "plumage/common/constants.h"
 #include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
 #include "plumage/common/frame.h"
@@ -31,7 +32,6 @@ using namespace plumage;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 SubstructureParams params(int n, double theta_deg, double r_r, double r_b, double width, double phi_deg = 0,
                           double hooked = 0) {

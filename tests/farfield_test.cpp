@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "plumage/common/atomic_file.h"
+#include "plumage/common/constants.h"
 #include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
 #include "plumage/common/stats.h"
@@ -45,7 +46,6 @@ struct NoFarfieldDiskCache : ::testing::Environment {
 [[maybe_unused]] ::testing::Environment* const kNoDiskCache =
     ::testing::AddGlobalTestEnvironment(new NoFarfieldDiskCache);
 
-constexpr double kPi = std::numbers::pi;
 
 // The presets' barb (rock dove: r_r 40 um, r_b 6 um, theta_b 45, phi_b 10, 30 % hooks, W 0.4 mm)
 // with a barbule every 50 um.

@@ -12,6 +12,7 @@
 
 #include "chi_square.h"
 #include "hair_terms.h"
+#include "plumage/common/constants.h"
 #include "plumage/common/error.h"
 #include "plumage/renderer/hair_bcsdf.h"
 
@@ -19,7 +20,6 @@ using namespace plumage;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 const float kBetas[] = {0.1f, 0.3f, 0.5f, 0.7f, 0.9f};
 
 // splitmix64: tiny, fast and the same on every platform (std distributions are not).

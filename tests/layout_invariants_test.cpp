@@ -15,6 +15,7 @@
 #include <string>
 
 #include "plumage/common/bspline.h"
+#include "plumage/common/constants.h"
 #include "plumage/common/error.h"
 #include "plumage/common/feather.h"
 #include "plumage/generator/analysis/analyze.h"
@@ -25,7 +26,6 @@ using namespace plumage;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 BSpline3 spline(const Curve& c) {
   std::vector<glm::dvec3> v;

@@ -10,6 +10,7 @@
 #include <tuple>
 #include <unistd.h>
 
+#include "plumage/common/constants.h"
 #include "plumage/common/median.h"
 #include "plumage/common/bspline.h"
 #include "plumage/common/error.h"
@@ -20,7 +21,6 @@ using namespace plumage;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kLength = 120.0, kWidthLeft = 22.0, kWidthRight = 30.0;
 constexpr double kAngleLeft = 40.0, kAngleRight = 55.0, kSpacing = 0.8;
 

@@ -12,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "plumage/common/constants.h"
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
 #include "plumage/renderer/dome_rig.h"
@@ -21,7 +22,6 @@ using namespace plumage;
 namespace fs = std::filesystem;
 
 namespace {
-constexpr float kPi = std::numbers::pi_v<float>;
 fs::path temp_dir() {
   const fs::path d = fs::temp_directory_path() / ("plumage_render_lights_test_" + std::to_string(::getpid()));
   fs::create_directories(d);
@@ -47,7 +47,7 @@ TEST(RenderLights, SphereSamplesHitTheSphereWithConstantPdf) {
     }
     // The cone's solid angle 2 pi (1 - cos theta_max).
     const double d = glm::length(l.centre - p), st2 = 1.0 / (d * d);
-    EXPECT_NEAR(solid_angle, 2 * kPi * st2 / (1 + std::sqrt(1 - st2)), 1e-3 * solid_angle);
+    EXPECT_NEAR(solid_angle, 2 * kPiF * st2 / (1 + std::sqrt(1 - st2)), 1e-3 * solid_angle);
   }
   EXPECT_FALSE(sample_sphere_light({{0, 0, 0}, 1.0f, glm::vec3(1)}, {0.1f, 0, 0}, {0.5f, 0.5f}));
 }
@@ -76,16 +76,16 @@ TEST(RenderLights, EnvironmentMapPdfIsADensityMatchingItsSamples) {
   const int nt = 16 * 8, np = 32 * 8;
   for (int i = 0; i < nt; ++i)
     for (int j = 0; j < np; ++j) {
-      const float t = kPi * (i + 0.5f) / nt, phi = 2 * kPi * (j + 0.5f) / np;
+      const float t = kPiF * (i + 0.5f) / nt, phi = 2 * kPiF * (j + 0.5f) / np;
       const glm::vec3 d{std::sin(t) * std::cos(phi), std::sin(t) * std::sin(phi), std::cos(t)};
-      integral += env.pdf(d) * std::sin(t) * (kPi / nt) * (2 * kPi / np);
+      integral += env.pdf(d) * std::sin(t) * (kPiF / nt) * (2 * kPiF / np);
     }
   EXPECT_NEAR(integral, 1.0, 0.005);
   // Exact integral of the piecewise-constant map: sum L * dphi * (cos t0 - cos t1).
   double exact = 0;
   for (int y = 0; y < 16; ++y)
     for (int x = 0; x < 32; ++x)
-      exact += img.rgb(x, y).y * (2 * kPi / 32) * (std::cos(kPi * y / 16) - std::cos(kPi * (y + 1) / 16));
+      exact += img.rgb(x, y).y * (2 * kPiF / 32) * (std::cos(kPiF * y / 16) - std::cos(kPiF * (y + 1) / 16));
   EXPECT_NEAR(mean_ratio, exact, 0.01 * exact);
 }
 
@@ -117,7 +117,7 @@ TEST(RenderLights, Dome25RigHas25LedsOnTheUpperHemisphere) {
   EXPECT_EQ(lights[0].centre, rig.leds[0] + glm::vec3(1, 2, 3));
   EXPECT_EQ(lights[2].centre, rig.leds[11] + glm::vec3(1, 2, 3));
   // Radiant intensity I = L pi r^2 along any direction.
-  EXPECT_NEAR(lights[0].radiance.x * kPi * rig.led_radius * rig.led_radius, rig.intensity.x, 1e-2f * rig.intensity.x);
+  EXPECT_NEAR(lights[0].radiance.x * kPiF * rig.led_radius * rig.led_radius, rig.intensity.x, 1e-2f * rig.intensity.x);
 }
 
 // intersect_spheres skips segments that stay below the lowest LED; its answer must
@@ -231,22 +231,22 @@ TEST(RenderLights, ProxiesPointAtTheLightsWithTheirStrength) {
   ASSERT_EQ(px.size(), 3u);
   EXPECT_NEAR(px.wi(0).z, 1.0f, 1e-6f);
   // Le x solid angle of the cone, 2 pi (1 - cos theta_max).
-  const float omega = 2 * kPi * (1 - std::sqrt(1 - 0.01f));
+  const float omega = 2 * kPiF * (1 - std::sqrt(1 - 0.01f));
   EXPECT_NEAR(px.strength(0).x, 2.0f * omega, 1e-3f * 2.0f * omega);
   EXPECT_NEAR(px.wi(1).x, 1.0f, 1e-6f);
   EXPECT_NEAR(px.strength(1).y, 0.5f, 1e-6f);
   EXPECT_EQ(px.environment, 2u);
-  EXPECT_NEAR(px.strength(2).z, kPi * 0.25f, 1e-4f);
+  EXPECT_NEAR(px.strength(2).z, kPiF * 0.25f, 1e-4f);
   // Inside a sphere the light surrounds the point: half the sphere of directions.
   lights.proxies(glm::vec3(0, 0, 9.5f), px);
-  EXPECT_NEAR(px.strength(0).x, 2.0f * 2 * kPi, 1e-4f);
+  EXPECT_NEAR(px.strength(0).x, 2.0f * 2 * kPiF, 1e-4f);
   EXPECT_NEAR(px.wi(0).z, 1.0f, 1e-6f);
   // Off axis and far: the cone's solid angle falls as pi r^2 / d^2, the direction
   // points at the centre.
   lights.proxies(glm::vec3(300, 400, 10), px);
   EXPECT_NEAR(px.wi(0).x, -0.6f, 1e-6f);
   EXPECT_NEAR(px.wi(0).y, -0.8f, 1e-6f);
-  EXPECT_NEAR(px.strength(0).x, 2.0f * kPi / 250000.0f, 1e-3f * 2.0f * kPi / 250000.0f);
+  EXPECT_NEAR(px.strength(0).x, 2.0f * kPiF / 250000.0f, 1e-3f * 2.0f * kPiF / 250000.0f);
   // Without an environment the index says so.
   LightSet bare;
   bare.add(SphereLight{{0, 0, 10}, 1.0f, glm::vec3(2.0f)});

@@ -13,6 +13,7 @@
 #include <random>
 
 #include "one_barb.h"
+#include "plumage/common/constants.h"
 #include "plumage/renderer/hair_bcsdf.h"
 #include "plumage/renderer/ray.h"
 #include "plumage/renderer/render.h"
@@ -23,7 +24,6 @@ using test::mean_channel;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 // Unpolarised Fresnel reflectance (Born & Wolf §1.5), written out here so the
 // closed form does not share code with the BCSDF it checks.

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "plumage/common/bspline.h"
+#include "plumage/common/constants.h"
 #include "plumage/common/error.h"
 #include "plumage/generator/shaft_pose.h"
 
@@ -12,7 +13,6 @@ using namespace plumage;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kLength = 10.0;
 
 // A straight built shaft along +Y from the origin, and barbs as straight rows of

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "plumage/common/constants.h"
 #include "plumage/common/median.h"
 #include "plumage/common/error.h"
 #include "plumage/common/stats.h"
@@ -35,7 +36,6 @@ using namespace plumage;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr float kDenorm = std::numeric_limits<float>::denorm_min();
 
 bool full_stress() {

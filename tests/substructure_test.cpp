@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "plumage/common/bspline.h"
+#include "plumage/common/constants.h"
 #include "plumage/common/error.h"
 #include "plumage/common/stats.h"
 #include "plumage/renderer/path_integrator.h"
@@ -24,7 +25,6 @@ using namespace plumage;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 SubstructureParams params(int n, double theta_deg, double r_r, double r_b, double width, double phi_deg = 0,
                           double hooked = 0.3) {

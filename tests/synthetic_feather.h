@@ -6,11 +6,11 @@
 #include <glm/glm.hpp>
 #include <random>
 
+#include "plumage/common/constants.h"
 #include "plumage/common/image.h"
 
 namespace plumage::synthetic {
 
-inline constexpr double kPi = 3.14159265358979323846;
 
 // A feather drawn from its definition: shaft from `calamus` along `dir` for
 // `length` px; vanes from 20% of the length to the tip with half-widths

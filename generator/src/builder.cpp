@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "plumage/common/constants.h"
 #include "plumage/common/stats.h"
 #include "plumage/generator/random.h"
 #include "shaft.h"
@@ -10,7 +11,6 @@
 namespace plumage {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegToRad = kPi / 180.0;
 constexpr int kSubsteps = 4;           // RK2 steps per barb station
 constexpr int kCageFitIterations = 3;  // see fit_cage_to_targets

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "plumage/common/atomic_file.h"
+#include "plumage/common/constants.h"
 #include "plumage/common/error.h"
 #include "plumage/common/median.h"
 #include "plumage/generator/builder.h"
@@ -14,7 +15,6 @@
 namespace plumage {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 std::string num(double v) {
   std::ostringstream s;

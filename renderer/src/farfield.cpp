@@ -15,13 +15,13 @@
 #include <numbers>
 
 #include "plumage/common/atomic_file.h"
+#include "plumage/common/constants.h"
 #include "plumage/common/error.h"
 #include "plumage/common/stats.h"
 
 namespace plumage {
 namespace {
 
-constexpr float kPi = std::numbers::pi_v<float>;
 constexpr char kMagic[] = "plumage-farfield\n";
 constexpr std::uint32_t kVersion = 2;
 
@@ -56,7 +56,7 @@ struct Reader {
 
 }  // namespace
 
-float FarfieldBins::solid_angle() const { return 4 * kPi / float(count()); }
+float FarfieldBins::solid_angle() const { return 4 * kPiF / float(count()); }
 
 int FarfieldBins::bin(const glm::vec3& d) const {
   const float len2 = glm::dot(d, d);
@@ -64,14 +64,14 @@ int FarfieldBins::bin(const glm::vec3& d) const {
   const float x = std::clamp(d.x / std::sqrt(len2), -1.0f, 1.0f);
   const int iu = std::clamp(int((x + 1) * 0.5f * float(nu)), 0, nu - 1);
   const float phi = std::atan2(d.y, d.z);  // [-pi, pi]
-  const int ip = std::clamp(int((phi + kPi) / (2 * kPi) * float(nphi)), 0, nphi - 1);
+  const int ip = std::clamp(int((phi + kPiF) / (2 * kPiF) * float(nphi)), 0, nphi - 1);
   return iu * nphi + ip;
 }
 
 glm::vec3 FarfieldBins::direction(int b, const glm::vec2& u) const {
   const int iu = b / nphi, ip = b % nphi;
   const float x = std::clamp(-1 + 2 * (float(iu) + u.x) / float(nu), -1.0f, 1.0f);
-  const float phi = -kPi + 2 * kPi * (float(ip) + u.y) / float(nphi);
+  const float phi = -kPiF + 2 * kPiF * (float(ip) + u.y) / float(nphi);
   const float r = std::sqrt(std::fmax(0.0f, (1 - x) * (1 + x)));
   return {x, r * std::sin(phi), r * std::cos(phi)};
 }
@@ -89,7 +89,7 @@ FarfieldBins::Lerp FarfieldBins::lerp(const glm::vec3& d, int* bin) const {
   const float x = std::clamp(d.x / std::sqrt(len2), -1.0f, 1.0f);
   // The same arithmetic as bin(), so the two agree on every direction.
   const float ux = (x + 1) * 0.5f * float(nu);
-  const float up = (std::atan2(d.y, d.z) + kPi) / (2 * kPi) * float(nphi);
+  const float up = (std::atan2(d.y, d.z) + kPiF) / (2 * kPiF) * float(nphi);
   if (bin) *bin = std::clamp(int(ux), 0, nu - 1) * nphi + std::clamp(int(up), 0, nphi - 1);
   const float fx = std::clamp(ux - 0.5f, 0.0f, float(nu - 1));
   const float fp = up - 0.5f;

@@ -18,7 +18,6 @@ namespace plumage {
 
 namespace {
 
-using hair::kPi;
 
 constexpr int kLobes = 4;            // R, TT, TRT and the residual p >= 3
 constexpr double kBetaMin = 1e-3;    // below this the lobes are narrower than float directions resolve

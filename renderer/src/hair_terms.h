@@ -8,9 +8,10 @@
 #include <cmath>
 #include <numbers>
 
+#include "plumage/common/constants.h"
+
 namespace plumage::hair {
 
-inline constexpr double kPi = std::numbers::pi;
 
 // I0(x) for 0 <= x < 3.75 (Abramowitz & Stegun 9.8.1, |relative error| < 1.6e-7).
 inline double bessel_i0_small(double x) {

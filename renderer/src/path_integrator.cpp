@@ -7,12 +7,12 @@
 #include <span>
 #include <vector>
 
+#include "plumage/common/constants.h"
 #include "plumage/common/error.h"
 #include "plumage/renderer/fibre_frame.h"
 
 namespace plumage {
 namespace {
-constexpr float kPi = std::numbers::pi_v<float>;
 
 bool finite_nonneg(const glm::vec3& c) {
   return std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z) && c.x >= 0 && c.y >= 0 && c.z >= 0;
@@ -44,12 +44,12 @@ struct DiffuseScatter final : Scatter {
       : n(glm::dot(normal, wo) < 0 ? -normal : normal), albedo(a) {}
   glm::vec3 f_cos(const glm::vec3& wi, float* pdf) const override {
     const float c = glm::dot(wi, n);
-    *pdf = c > 0 ? c / kPi : 0.0f;
-    return c > 0 ? albedo * (c / kPi) : glm::vec3(0);
+    *pdf = c > 0 ? c / kPiF : 0.0f;
+    return c > 0 ? albedo * (c / kPiF) : glm::vec3(0);
   }
   void estimate_weights(const LightProxies& lp, float* w) const override {
     weigh(lp.size(), lp.x.data(), lp.y.data(), lp.z.data(), lp.r.data(), lp.g.data(), lp.b.data(), n,
-          albedo / kPi, w);
+          albedo / kPiF, w);
   }
   // A plain loop over pointers, which GCC vectorises: lum(strength f cos).
   static void weigh(std::size_t count, const float* x, const float* y, const float* z, const float* r, const float* g,
@@ -62,11 +62,11 @@ struct DiffuseScatter final : Scatter {
   }
   bool sample(const glm::vec4& u, glm::vec3* wi, glm::vec3* weight, float* pdf) const override {
     // Cosine-weighted hemisphere (Malley's method).
-    const float r = std::sqrt(u.x), phi = 2 * kPi * u.y;
+    const float r = std::sqrt(u.x), phi = 2 * kPiF * u.y;
     const float z = std::sqrt(std::fmax(0.0f, 1.0f - u.x));
     const Frame f = frame_from_normal(n);
     *wi = glm::normalize(f.to_world({r * std::cos(phi), r * std::sin(phi), z}));
-    *pdf = z / kPi;
+    *pdf = z / kPiF;
     *weight = albedo;
     return z > 0;
   }
@@ -174,7 +174,7 @@ glm::vec3 direct_light(const Scene& scene, const LightSet& lights, const Surface
 
 // The environment has no direction to evaluate the BCSDF at: its estimate assumes
 // a surface that reflects half of what falls on it, diffusely.
-constexpr float kEnvironmentResponse = 0.5f / kPi;
+constexpr float kEnvironmentResponse = 0.5f / kPiF;
 
 // Next-event estimation's choice of light at one vertex, and the probability of
 // that choice for MIS when a BCSDF-sampled ray of the same vertex hits a light.

@@ -3,18 +3,18 @@
 #include <cmath>
 #include <numbers>
 
+#include "plumage/common/constants.h"
 #include "plumage/common/frame.h"
 
 namespace plumage {
 namespace {
-constexpr float kPi = std::numbers::pi_v<float>;
 
 // 1 - cos(theta_max) of the cone, without the cancellation of 1 - sqrt(1 - s2) for tiny lights.
 float one_minus_cos_max(float sin2_max) { return sin2_max / (1.0f + std::sqrt(std::fmax(0.0f, 1.0f - sin2_max))); }
 }  // namespace
 
 glm::vec3 SphereLight::radiance_for_intensity(const glm::vec3& intensity, float radius) {
-  return intensity / (kPi * radius * radius);
+  return intensity / (kPiF * radius * radius);
 }
 
 std::optional<SphereSample> sample_sphere_light(const SphereLight& l, const glm::vec3& p, const glm::vec2& u) {
@@ -29,14 +29,14 @@ std::optional<SphereSample> sample_sphere_light(const SphereLight& l, const glm:
   const float one_minus_cos = u.x * omc;
   const float cos_t = 1.0f - one_minus_cos;
   const float sin_t = std::sqrt(std::fmax(0.0f, one_minus_cos * (2.0f - one_minus_cos)));
-  const float phi = 2.0f * kPi * u.y;
+  const float phi = 2.0f * kPiF * u.y;
   const Frame f = frame_from_normal(to_c / d);
   const glm::vec3 wi = glm::normalize(f.to_world({sin_t * std::cos(phi), sin_t * std::sin(phi), cos_t}));
   // Near intersection along wi (the cone's rays all meet the sphere).
   const float b = glm::dot(to_c, wi);
   const float disc = std::fmax(0.0f, r2 - (d2 - b * b));
   const float dist = std::fmax(0.0f, b - std::sqrt(disc));
-  return SphereSample{wi, dist, 1.0f / (2.0f * kPi * omc)};
+  return SphereSample{wi, dist, 1.0f / (2.0f * kPiF * omc)};
 }
 
 float sphere_light_pdf(const SphereLight& l, const glm::vec3& p) {
@@ -44,7 +44,7 @@ float sphere_light_pdf(const SphereLight& l, const glm::vec3& p) {
   const float d2 = glm::dot(to_c, to_c);
   const float r2 = l.radius * l.radius;
   if (!(d2 > r2)) return 0.0f;
-  return 1.0f / (2.0f * kPi * one_minus_cos_max(r2 / d2));
+  return 1.0f / (2.0f * kPiF * one_minus_cos_max(r2 / d2));
 }
 
 glm::vec3 sphere_light_irradiance(const SphereLight& l, const glm::vec3& p, const glm::vec3& n) {
@@ -53,7 +53,7 @@ glm::vec3 sphere_light_irradiance(const SphereLight& l, const glm::vec3& p, cons
   const float r2 = l.radius * l.radius;
   if (!(d2 > r2)) return glm::vec3(0);
   const float cos_t = glm::dot(to_c, n) / std::sqrt(d2);
-  return cos_t > 0 ? l.radiance * (kPi * r2 / d2 * cos_t) : glm::vec3(0);
+  return cos_t > 0 ? l.radiance * (kPiF * r2 / d2 * cos_t) : glm::vec3(0);
 }
 
 }  // namespace plumage

@@ -6,13 +6,13 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "plumage/common/constants.h"
 #include "plumage/common/median.h"
 #include "steps.h"
 
 namespace plumage::analysis {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Spacing is read on lines out to this fraction of the vane's width. A barb
 // that leaves the shaft a little steeper or flatter than its neighbours crosses
 // a line at offset o displaced by o times the change of cot(theta), which at
