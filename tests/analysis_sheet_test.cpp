@@ -6,10 +6,12 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <random>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include "plumage/common/atomic_file.h"
+#include "plumage/common/constants.h"
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
 #include "plumage/generator/analysis/analyze.h"
@@ -267,6 +269,51 @@ TEST(AnalysisSheet, AFanOfOverlappingFeathersIsReportedNotMerged) {
   write_image(dir / "one.png", fan[4].draw());
   const PhotoAnalysis A = analyze_photo(dir / "one.png", AnalyzeOptions{});
   EXPECT_EQ(A.layout.feathers.size(), 1u);
+  fs::remove_all(dir);
+}
+
+// The fan rule over many drawn feathers: single feathers in any direction, of
+// any width and barb angle, are analysed (never a fan), and fans of 5-12
+// feathers spread over 60-150 degrees in any direction are reported as fans.
+TEST(AnalysisSheet, FansAreReportedAndSingleFeathersAreNot) {
+  const fs::path dir = sheet_dir("fans");
+  std::mt19937 rng(7);
+  const auto uniform = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+  for (int k = 0; k < 8; ++k) {
+    SyntheticFeather f;
+    f.dir_deg = uniform(-180, 180);
+    f.length = uniform(300, 480);
+    f.w_left = uniform(20, 90);
+    f.w_right = uniform(20, 90);
+    f.theta_deg = uniform(20, 60);
+    f.spacing = uniform(5, 12);
+    f.seed = unsigned(40 + k);
+    f.calamus = glm::dvec2(450, 350) - 0.5 * f.length * f.dir();
+    write_image(dir / "one.png", f.draw());
+    const std::string why = refusal(dir / "one.png");
+    EXPECT_EQ(why, "analysed as 1 feather(s)") << "feather " << k << " at " << f.dir_deg << " deg";
+  }
+  for (int k = 0; k < 4; ++k) {
+    const int n = 5 + 2 * k + int(uniform(0, 2));
+    const double spread = uniform(60, 150), first = uniform(-180, 180), length = uniform(260, 320);
+    const double w = uniform(25, 40);
+    const double middle = (first + 0.5 * spread) * kPi / 180;
+    const glm::dvec2 wrist = glm::dvec2(450, 350) - 0.45 * length * glm::dvec2(std::cos(middle), std::sin(middle));
+    std::vector<SyntheticFeather> fan(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) {
+      SyntheticFeather& f = fan[std::size_t(i)];
+      f.calamus = wrist;
+      f.dir_deg = first + spread * i / (n - 1);
+      f.length = length;
+      f.w_left = 0.7 * w;
+      f.w_right = w;
+      f.seed = unsigned(60 + 13 * k + i);
+    }
+    write_image(dir / "fan.png", on_one_card(fan));
+    const std::string why = refusal(dir / "fan.png");
+    EXPECT_NE(why.find("is a fan of overlapping feathers"), std::string::npos)
+        << n << " feathers over " << spread << " deg from " << first << " deg: " << why;
+  }
   fs::remove_all(dir);
 }
 
