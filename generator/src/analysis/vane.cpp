@@ -74,7 +74,7 @@ void spacing(const Unrolled& U, int j0, int j1, int side, double w, double shaft
   const int len = j1 - j0;
   if (len < 24) return;
   const double pmin = 2.5, pmax = std::max(pmin * 2, len / 4.0);
-  const int nf = 240;
+  constexpr int nf = 240;
   std::vector<double> power(nf, 0.0);
   const int hp = std::max(3, int(pmax / 2));
   int used = 0;
@@ -90,25 +90,29 @@ void spacing(const Unrolled& U, int j0, int j1, int side, double w, double shaft
       in += U.mask.at<uchar>(j0 + j, col) != 0;
     }
     if (in < 0.9 * len) continue;
-    // High-pass (remove the slow shading) and taper the ends.
-    std::vector<double> y(len);
+    // High-pass (remove the slow shading: a running mean over 2 hp + 1
+    // samples, shorter at the ends) and taper the ends.
+    std::vector<double> prefix(len + 1, 0.0), y(len);
+    for (int j = 0; j < len; ++j) prefix[j + 1] = prefix[j] + x[j];
     for (int j = 0; j < len; ++j) {
-      double s = 0;
-      int c = 0;
-      for (int q = std::max(0, j - hp); q <= std::min(len - 1, j + hp); ++q) s += x[q], ++c;
-      y[j] = (x[j] - s / c) * (0.5 - 0.5 * std::cos(2 * kPi * (j + 0.5) / len));
+      const int a = std::max(0, j - hp), b = std::min(len - 1, j + hp);
+      y[j] = (x[j] - (prefix[b + 1] - prefix[a]) / (b - a + 1)) * (0.5 - 0.5 * std::cos(2 * kPi * (j + 0.5) / len));
     }
-    for (int k = 0; k < nf; ++k) {
-      const double fr = 1.0 / pmax + (1.0 / pmin - 1.0 / pmax) * k / (nf - 1);
-      // The DFT phasor advanced by one rotation per sample (no trig per sample).
-      const double cr = std::cos(2 * kPi * fr), ci = std::sin(2 * kPi * fr);
-      double re = 0, im = 0, pr = 1, pi = 0;
-      for (int j = 0; j < len; ++j) {
-        re += y[j] * pr, im += y[j] * pi;
-        const double nr = pr * cr - pi * ci;
-        pi = pr * ci + pi * cr, pr = nr;
-      }
-      power[k] += re * re + im * im;
+    // |DFT|^2 at each frequency by Goertzel's recurrence (one multiply per
+    // sample), kBlock frequencies side by side so their independent recurrences
+    // overlap in the pipeline.
+    constexpr int kBlock = 8;
+    static_assert(nf % kBlock == 0);
+    for (int k0 = 0; k0 < nf; k0 += kBlock) {
+      double c2[kBlock], s1[kBlock] = {}, s2[kBlock] = {};
+      for (int b = 0; b < kBlock; ++b)
+        c2[b] = 2 * std::cos(2 * kPi * (1.0 / pmax + (1.0 / pmin - 1.0 / pmax) * (k0 + b) / (nf - 1)));
+      for (int j = 0; j < len; ++j)
+        for (int b = 0; b < kBlock; ++b) {
+          const double s0 = y[j] + c2[b] * s1[b] - s2[b];
+          s2[b] = s1[b], s1[b] = s0;
+        }
+      for (int b = 0; b < kBlock; ++b) power[k0 + b] += s1[b] * s1[b] + s2[b] * s2[b] - c2[b] * s1[b] * s2[b];
     }
     ++used;
   }
