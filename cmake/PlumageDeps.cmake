@@ -4,11 +4,13 @@
 find_package(glm REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(CLI11 REQUIRED)
-# OpenImageIO only for the image module (formats other than PNG and EXR); PNG and
-# EXR go through libpng and OpenEXR directly.
+# OpenImageIO only for the image module (formats other than PNG, EXR and JPEG,
+# and writing JPEG); PNG and EXR go through libpng and OpenEXR directly.
 find_package(OpenImageIO REQUIRED)
 find_package(OpenEXR 3 CONFIG REQUIRED)
 find_package(PNG REQUIRED)
+# Reading JPEG (most photos) goes through libjpeg directly too.
+find_package(JPEG REQUIRED)
 find_package(TBB REQUIRED)
 # Photos are decoded by read_image (common/image.h): no imgcodecs.
 find_package(OpenCV REQUIRED COMPONENTS core imgproc)

@@ -8,7 +8,7 @@ packages=(
   libembree-dev libtbb-dev
   libosd-dev
   libopencv-dev
-  libopenimageio-dev openimageio-tools libopenexr-dev libpng-dev
+  libopenimageio-dev openimageio-tools libopenexr-dev libpng-dev libjpeg62-turbo-dev
   libglm-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev nlohmann-json3-dev

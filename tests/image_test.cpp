@@ -184,6 +184,46 @@ TEST_F(ImageFiles, ExrRoundTripIsBitExact) {
   }
 }
 
+TEST_F(ImageFiles, JpegKeepsRowOrderChannelsAndCodes) {
+  // Pictures smooth in their sRGB codes and asymmetric (a transposed, flipped
+  // or channel-swapped decode fails), written through the image module at
+  // quality 100 and read back through libjpeg: every 8-bit code within a few
+  // steps of the original (chroma is stored at half resolution).
+  for (int channels : {1, 3}) {
+    Image img(48, 32, channels);
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x)
+        for (int c = 0; c < channels; ++c)
+          img.pixels[(std::size_t(y) * img.width + x) * channels + c] =
+              srgb_to_linear(c == 0 ? float(x) / (img.width - 1) : c == 1 ? float(y) / (img.height - 1) : 0.25f);
+    const fs::path f = dir_ / ("ramp" + std::to_string(channels) + ".jpg");
+    write_image(f, img, 100);
+    const Image back = read_image(f, false);
+    ASSERT_EQ(back.width, img.width);
+    ASSERT_EQ(back.height, img.height);
+    ASSERT_EQ(back.channels, channels);
+    // What was written: the linear values as sRGB codes.
+    double worst = 0;
+    for (std::size_t i = 0; i < img.pixels.size(); ++i)
+      worst = std::max(worst, std::fabs(double(back.pixels[i]) - srgb_encode(img.pixels[i])) * 255);
+    EXPECT_LE(worst, 6.0) << channels << " channel(s)";
+  }
+}
+
+TEST_F(ImageFiles, DamagedJpegIsAnErrorNamingTheFile) {
+  // A JPEG header with its end-of-image marker but garbage for the rest: the
+  // decoder stops with an error, never a crash or a hang.
+  const fs::path good = dir_ / "good.jpg";
+  write_image(good, random_image(64, 64, 3, 0, 1, 5), 90);
+  std::string bytes = read_file(good);
+  const std::size_t sof = bytes.find("\xff\xc0");
+  ASSERT_NE(sof, std::string::npos);
+  const fs::path bad = dir_ / "bad.jpg";
+  std::string broken = bytes.substr(0, sof + 2) + std::string(64, '\x55') + "\xff\xda" + std::string(32, '\x00') + "\xff\xd9";
+  write_file_atomic(bad, broken);
+  expect_error_naming(bad, [&] { read_image(bad); });
+}
+
 TEST_F(ImageFiles, BadInputNamesTheFile) {
   const fs::path missing = dir_ / "missing.png";
   expect_error_naming(missing, [&] { read_image(missing); });

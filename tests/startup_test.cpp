@@ -1,9 +1,10 @@
-// A process that reads and writes only PNG and EXR never loads OpenImageIO (its
-// ~260 libraries cost 0.15-0.2 s of every start, docs/perf/render.md) nor
-// OpenCV's imgcodecs: the `plumage` binary does not link them, and a render
-// with an EXR sky writing EXR and PNG loads neither, while one with an HDR sky
-// loads OpenImageIO through the image module (the control that shows the check
-// sees a load).
+// A process that reads only PNG, EXR and JPEG and writes only PNG and EXR never
+// loads OpenImageIO (its ~260 libraries cost 0.15-0.25 s of every start,
+// docs/perf/render.md, docs/perf/analysis.md) nor OpenCV's imgcodecs: the
+// `plumage` binary does not link them; a render with an EXR sky writing EXR and
+// PNG loads neither, nor does the analysis of a JPEG photo, while a render with
+// an HDR sky loads OpenImageIO through the image module (the control that shows
+// the check sees a load).
 #include <elf.h>
 #include <gtest/gtest.h>
 
@@ -88,6 +89,7 @@ TEST(Startup, CliDoesNotLinkOpenImageIOOrImgcodecs) {
   // The reader works: it finds what the binary must link.
   EXPECT_TRUE(mentions(libs, "libOpenEXR")) << all;
   EXPECT_TRUE(mentions(libs, "libpng")) << all;
+  EXPECT_TRUE(mentions(libs, "libjpeg")) << all;
   EXPECT_TRUE(mentions(libs, "libembree")) << all;
   EXPECT_FALSE(mentions(libs, "OpenImageIO")) << all;
   EXPECT_FALSE(mentions(libs, "opencv_imgcodecs")) << all;
@@ -122,5 +124,27 @@ TEST(Startup, RenderLoadsOpenImageIOOnlyForOtherFormats) {
       render + "'" + (dir / "sky.hdr").string() + "' -o '" + (dir / "y.exr").string() + "'", &rc);
   EXPECT_EQ(rc, 0);
   EXPECT_NE(hdr.find("libOpenImageIO"), std::string::npos) << "an HDR sky is read through the OpenImageIO module";
+  fs::remove_all(dir);
+}
+
+TEST(Startup, AnalysingAJpegPhotoDoesNotLoadOpenImageIO) {
+  if (kCliLoadsOpenImageIOAtStart) GTEST_SKIP() << "the sanitizer build's CLI links OpenImageIO";
+  const fs::path dir = fs::temp_directory_path() / ("plumage_startup_jpeg_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // A dark ellipse on a light card, written as JPEG by this (test) process.
+  plumage::Image photo(320, 200, 3, 0.9f);
+  for (int y = 0; y < photo.height; ++y)
+    for (int x = 0; x < photo.width; ++x) {
+      const double u = (x - 160.0) / 120.0, v = (y - 100.0) / 30.0;
+      if (u * u + v * v < 1) photo.set_rgb(x, y, {0.2f, 0.1f, 0.05f});
+    }
+  plumage::write_image(dir / "photo.jpg", photo, 95);
+  int rc = -1;
+  const std::string out = run_listing_loads(
+      "-q analyze '" + (dir / "photo.jpg").string() + "' -o '" + (dir / "photo.json").string() + "'", &rc);
+  EXPECT_EQ(rc, 0) << out.substr(out.size() > 2000 ? out.size() - 2000 : 0);
+  EXPECT_NE(out.find("libjpeg"), std::string::npos) << "LD_DEBUG listed no loads";
+  EXPECT_EQ(out.find("OpenImageIO"), std::string::npos) << "a JPEG photo is read through libjpeg";
   fs::remove_all(dir);
 }

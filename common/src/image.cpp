@@ -203,8 +203,9 @@ Image read_image(const fs::path& path, bool linearize, double max_megapixels, Im
     in.read(magic, sizeof magic);
   }
   codec::Header header;
-  Image img = std::memcmp(magic, "\x89PNG", 4) == 0   ? codec::read_png(path, check, header)
+  Image img = std::memcmp(magic, "\x89PNG", 4) == 0              ? codec::read_png(path, check, header)
               : std::memcmp(magic, "\x76\x2f\x31\x01", 4) == 0 ? codec::read_exr(path, check, header)
+              : std::memcmp(magic, "\xff\xd8\xff", 3) == 0     ? codec::read_jpeg(path, check, header)
                                                               : codec::read_with_module(path, check, header);
   const bool is_float = header.is_float;
   if (source != nullptr) *source = {header.bits, header.is_float, header.alpha};

@@ -1,9 +1,10 @@
 #pragma once
 // The decoders and encoders behind read_image and write_image (image.h): PNG
-// through libpng and OpenEXR through the OpenEXR library, both linked into the
-// process; every other format through OpenImageIO, which lives in a module
-// loaded on first use (image_module.cpp) so that a process that only reads and
-// writes PNG and EXR never loads it. Private to common/.
+// through libpng, OpenEXR through the OpenEXR library and (reading only) JPEG
+// through libjpeg, all linked into the process; every other format through
+// OpenImageIO, which lives in a module loaded on first use (image_module.cpp)
+// so that a process that only reads PNG, EXR and JPEG and writes PNG and EXR
+// never loads it. Private to common/.
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -29,6 +30,8 @@ using HeaderCheck = std::function<void(const Header&)>;
 // naming `path`.
 Image read_png(const std::filesystem::path& path, const HeaderCheck& check, Header& header);
 Image read_exr(const std::filesystem::path& path, const HeaderCheck& check, Header& header);
+// Grey and RGB JPEG through libjpeg; CMYK and YCCK through read_with_module.
+Image read_jpeg(const std::filesystem::path& path, const HeaderCheck& check, Header& header);
 Image read_with_module(const std::filesystem::path& path, const HeaderCheck& check, Header& header);
 
 // Each writer writes `file` (a temporary name); errors name `target`.
