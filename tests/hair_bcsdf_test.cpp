@@ -6,7 +6,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <numbers>
 #include <sstream>
 #include <vector>
 

@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <numbers>
 #include <optional>
 #include <cmath>
 #include <limits>

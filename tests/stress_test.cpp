@@ -18,7 +18,6 @@
 #include <cstdlib>
 #include <limits>
 #include <mutex>
-#include <numbers>
 #include <optional>
 #include <sstream>
 #include <string>

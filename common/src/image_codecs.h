@@ -25,6 +25,13 @@ struct Header {
 // Called with the header before pixels are decoded; throws to refuse the image.
 using HeaderCheck = std::function<void(const Header&)>;
 
+// 8-bit samples, interleaved, as an image of code / 255 (the readers' common last step).
+inline Image from_8bit(int width, int height, int channels, const std::vector<unsigned char>& data) {
+  Image img(width, height, channels);
+  for (std::size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = float(data[i]) * (1.0f / 255.0f);
+  return img;
+}
+
 // Each reader returns samples as float: integer samples as code / (2^bits - 1),
 // float samples as stored; alpha as stored (straight). Errors are plumage::Error
 // naming `path`.

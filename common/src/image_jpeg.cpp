@@ -104,9 +104,7 @@ Image read_jpeg(const fs::path& path, const HeaderCheck& check, Header& header) 
   std::vector<unsigned char> data(row_bytes * std::size_t(header.height));
   if (!read_rows(f.get(), data.data(), row_bytes, header.width, header.channels, header.height))
     throw Error(where, std::string("cannot decode image: ") + f->error);
-  Image img(header.width, header.height, header.channels);
-  for (std::size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = float(data[i]) * (1.0f / 255.0f);
-  return img;
+  return from_8bit(header.width, header.height, header.channels, data);
 }
 
 }  // namespace plumage::codec

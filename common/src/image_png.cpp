@@ -117,15 +117,12 @@ Image read_png(const fs::path& path, const HeaderCheck& check, Header& header) {
   for (int y = 0; y < header.height; ++y) rows[std::size_t(y)] = data.data() + row_bytes * std::size_t(y);
   if (!read_rows(f.get(), rows.data())) throw Error(where, std::string("cannot decode image: ") + f->error);
 
+  if (!wide) return from_8bit(header.width, header.height, header.channels, data);
   Image img(header.width, header.height, header.channels);
-  if (wide) {
-    for (std::size_t i = 0; i < img.pixels.size(); ++i) {
-      std::uint16_t v;
-      std::memcpy(&v, &data[2 * i], 2);
-      img.pixels[i] = float(v) * (1.0f / 65535.0f);
-    }
-  } else {
-    for (std::size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = float(data[i]) * (1.0f / 255.0f);
+  for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+    std::uint16_t v;
+    std::memcpy(&v, &data[2 * i], 2);
+    img.pixels[i] = float(v) * (1.0f / 65535.0f);
   }
   return img;
 }

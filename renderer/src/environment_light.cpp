@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include "plumage/common/constants.h"
 #include "plumage/common/error.h"

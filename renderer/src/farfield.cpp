@@ -12,7 +12,6 @@
 #include <iostream>
 #include <map>
 #include <mutex>
-#include <numbers>
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/constants.h"

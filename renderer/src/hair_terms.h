@@ -6,7 +6,6 @@
 // smoothest fibres we allow.
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include "plumage/common/constants.h"
 

@@ -1,7 +1,6 @@
 #include "plumage/renderer/sphere_light.h"
 
 #include <cmath>
-#include <numbers>
 
 #include "plumage/common/constants.h"
 #include "plumage/common/frame.h"

@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <opencv2/imgproc.hpp>
 
+#include "plumage/common/constants.h"
 #include "plumage/common/error.h"
 #include "plumage/common/median.h"
 #include "steps.h"
@@ -461,7 +461,7 @@ double fan_spread_deg(const cv::Mat& S, const cv::Mat& M, int widest) {
   std::vector<std::pair<double, double>> bearing;  // (angle from the mean bearing, weight)
   for (const Line& l : lines) {
     const cv::Point2d r = l.p - c;
-    bearing.emplace_back(std::remainder(std::atan2(r.y, r.x) - mid, 2 * std::numbers::pi), l.w);
+    bearing.emplace_back(std::remainder(std::atan2(r.y, r.x) - mid, 2 * kPi), l.w);
   }
   std::sort(bearing.begin(), bearing.end());
   const auto quantile = [&](double q) {
@@ -470,7 +470,7 @@ double fan_spread_deg(const cv::Mat& S, const cv::Mat& M, int widest) {
       if ((acc += w) >= q * total) return angle;
     return bearing.back().first;
   };
-  const double spread = (quantile(0.9) - quantile(0.1)) * 180 / std::numbers::pi;
+  const double spread = (quantile(0.9) - quantile(0.1)) * 180 / kPi;
   return spread >= kMinSpread && spread <= kMaxSpread ? spread : 0;
 }
 

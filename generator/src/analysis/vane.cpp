@@ -80,6 +80,11 @@ void spacing(const Unrolled& U, int j0, int j1, int side, double w, double shaft
   int used = 0;
   const int inner = int(std::max(shaft_w, 0.15 * w)), outer = int(kSpacingOuter * w);
   const int step = std::max(1, (outer - inner) / 12);
+  // What every line shares: the taper of its ends and Goertzel's coefficient
+  // 2 cos(2 pi f) at each frequency.
+  std::vector<double> taper(len), c2(nf);
+  for (int j = 0; j < len; ++j) taper[j] = 0.5 - 0.5 * std::cos(2 * kPi * (j + 0.5) / len);
+  for (int k = 0; k < nf; ++k) c2[k] = 2 * std::cos(2 * kPi * (1.0 / pmax + (1.0 / pmin - 1.0 / pmax) * k / (nf - 1)));
   for (int o = inner; o <= outer; o += step) {
     const int col = U.R + side * o;
     if (col < 0 || col >= U.gray.cols) continue;
@@ -96,7 +101,7 @@ void spacing(const Unrolled& U, int j0, int j1, int side, double w, double shaft
     for (int j = 0; j < len; ++j) prefix[j + 1] = prefix[j] + x[j];
     for (int j = 0; j < len; ++j) {
       const int a = std::max(0, j - hp), b = std::min(len - 1, j + hp);
-      y[j] = (x[j] - (prefix[b + 1] - prefix[a]) / (b - a + 1)) * (0.5 - 0.5 * std::cos(2 * kPi * (j + 0.5) / len));
+      y[j] = (x[j] - (prefix[b + 1] - prefix[a]) / (b - a + 1)) * taper[j];
     }
     // |DFT|^2 at each frequency by Goertzel's recurrence (one multiply per
     // sample), kBlock frequencies side by side so their independent recurrences
@@ -104,15 +109,14 @@ void spacing(const Unrolled& U, int j0, int j1, int side, double w, double shaft
     constexpr int kBlock = 8;
     static_assert(nf % kBlock == 0);
     for (int k0 = 0; k0 < nf; k0 += kBlock) {
-      double c2[kBlock], s1[kBlock] = {}, s2[kBlock] = {};
-      for (int b = 0; b < kBlock; ++b)
-        c2[b] = 2 * std::cos(2 * kPi * (1.0 / pmax + (1.0 / pmin - 1.0 / pmax) * (k0 + b) / (nf - 1)));
+      const double* c = c2.data() + k0;
+      double s1[kBlock] = {}, s2[kBlock] = {};
       for (int j = 0; j < len; ++j)
         for (int b = 0; b < kBlock; ++b) {
-          const double s0 = y[j] + c2[b] * s1[b] - s2[b];
+          const double s0 = y[j] + c[b] * s1[b] - s2[b];
           s2[b] = s1[b], s1[b] = s0;
         }
-      for (int b = 0; b < kBlock; ++b) power[k0 + b] += s1[b] * s1[b] + s2[b] * s2[b] - c2[b] * s1[b] * s2[b];
+      for (int b = 0; b < kBlock; ++b) power[k0 + b] += s1[b] * s1[b] + s2[b] * s2[b] - c[b] * s1[b] * s2[b];
     }
     ++used;
   }
