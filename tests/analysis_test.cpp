@@ -534,6 +534,10 @@ TEST(AnalysisRealPhotos, PinkContourFeather) {
   EXPECT_GT(f.length_mm / median(sl), 60.0);
   EXPECT_GT(f.length_mm / median(sr), 60.0);
   EXPECT_NEAR(median(sl) / median(sr), 1.0, 0.35);
+  // The fluffy base ends about 40 % of the shaft from the calamus above the
+  // shaft (left) and 35 % below it (docs/analysis.md, "Downy base").
+  EXPECT_NEAR(f.left.afterfeather_to_t, 0.40, 0.05);
+  EXPECT_NEAR(f.right.afterfeather_to_t, 0.35, 0.05);
 }
 
 // Robin remex 14: the rachis runs along the left edge (the narrow outer vane,

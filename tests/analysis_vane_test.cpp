@@ -1,7 +1,8 @@
-// Vane widths (generator/src/analysis/vane.cpp): a side counts as present at a
-// station where the photo's mask reaches past the rachis there. The rachis narrows
-// toward the tip, so a vane narrower than the quill is still measured, with
-// confidence, where the rachis beside it is thin.
+// Vane measurements (generator/src/analysis/vane.cpp). Widths: a side counts as
+// present at a station where the photo's mask reaches past the rachis there. The
+// rachis narrows toward the tip, so a vane narrower than the quill is still
+// measured, with confidence, where the rachis beside it is thin. The downy base:
+// stations from the base whose texture at the barb scale is faint.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -44,4 +45,63 @@ TEST(AnalysisVane, ANarrowVaneBesideAThickQuillIsMeasuredTowardTheTip) {
     ++checked;
   }
   EXPECT_GE(checked, 6);
+}
+
+namespace {
+
+PhotoAnalysis analyse_drawn(const SyntheticFeather& F, double mm_per_px) {
+  const fs::path dir = fs::temp_directory_path() / ("plumage_downy_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  write_image(dir / "feather.png", F.draw());
+  AnalyzeOptions opt;
+  opt.mm_per_px = mm_per_px;
+  PhotoAnalysis A = analyze_photo(dir / "feather.png", opt);
+  fs::remove_all(dir);
+  return A;
+}
+
+}  // namespace
+
+// A vane whose barbs are soft and faint over its base on one side is reported
+// as that side's downy base, ending where the drawing's does within a station
+// and a half; the other side, and the same feather drawn without down, have none.
+TEST(AnalysisVane, ADownyBaseIsFoundOnItsSideOnly) {
+  for (int side : {-1, +1}) {
+    SyntheticFeather F;
+    F.downy_to = 0.2;
+    F.downy_side = side;
+    const PhotoAnalysis A = analyse_drawn(F, 0.1);
+    ASSERT_EQ(A.layout.feathers.size(), 1u);
+    const FeatherLayout& f = A.layout.feathers[0];
+    // The drawn down ends at this fraction of the shaft (the analysed calamus is the drawn one).
+    const double drawn_t = (F.vane_start() + F.downy_to * (F.length - F.vane_start())) / F.length;
+    const double station = 1.0 / f.stations_t.size();
+    const VaneProfile& downy = side < 0 ? f.left : f.right;
+    const VaneProfile& plain = side < 0 ? f.right : f.left;
+    EXPECT_NEAR(downy.afterfeather_to_t, drawn_t, 1.5 * station) << "side " << side;
+    EXPECT_EQ(plain.afterfeather_to_t, 0.0) << "side " << side;
+  }
+  SyntheticFeather plain;
+  const PhotoAnalysis A = analyse_drawn(plain, 0.1);
+  ASSERT_EQ(A.layout.feathers.size(), 1u);
+  EXPECT_EQ(A.layout.feathers[0].left.afterfeather_to_t, 0.0);
+  EXPECT_EQ(A.layout.feathers[0].right.afterfeather_to_t, 0.0);
+}
+
+// Down is told from vane only where the photo resolves barbs: at a scale where the
+// drawn period is 8 mm, far more than any feather's barb spacing (a period of
+// texture, docs/analysis.md "Barb density"), the same faint base is not down.
+TEST(AnalysisVane, NoDownyBaseWhereThePhotoDoesNotResolveBarbs) {
+  SyntheticFeather F;
+  F.downy_to = 0.2;
+  const PhotoAnalysis A = analyse_drawn(F, 0.9);
+  ASSERT_EQ(A.layout.feathers.size(), 1u);
+  EXPECT_EQ(A.layout.feathers[0].left.afterfeather_to_t, 0.0);
+  EXPECT_EQ(A.layout.feathers[0].right.afterfeather_to_t, 0.0);
+  // ... while at 0.1 mm/px both sides have one.
+  const PhotoAnalysis B = analyse_drawn(F, 0.1);
+  ASSERT_EQ(B.layout.feathers.size(), 1u);
+  EXPECT_GT(B.layout.feathers[0].left.afterfeather_to_t, 0.0);
+  EXPECT_GT(B.layout.feathers[0].right.afterfeather_to_t, 0.0);
 }

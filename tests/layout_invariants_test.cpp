@@ -208,7 +208,7 @@ void expect_sound(const FeatherLayout& f, const std::string& name) {
 // closed tip, barb angles falling toward the tip, measurement noise, and stations
 // analysis was unsure of holding anything at all (confidence under 0.5).
 TEST(LayoutInvariants, RandomLayoutsBuildPossibleFeathers) {
-  std::mt19937_64 rng(2026);
+  std::mt19937_64 rng(2026), downy_rng(7);
   std::uniform_real_distribution<double> U(0.0, 1.0);
   int unsure_values = 0;
   for (int trial = 0; trial < 60; ++trial) {
@@ -231,6 +231,10 @@ TEST(LayoutInvariants, RandomLayoutsBuildPossibleFeathers) {
         if (v->barb_spacing_confidence[i] < 0.5) v->barb_spacing_mm[i] = 20 * U(rng), ++unsure_values;
       }
     }
+    // A third of them with a downy base on either side, from its own stream so
+    // the rest of each layout stays as it was.
+    if (trial % 3 == 0)
+      for (VaneProfile* v : {&f.left, &f.right}) v->afterfeather_to_t = 0.6 * U(downy_rng);
     expect_sound(f, "random" + std::to_string(trial) + ".json");
   }
   EXPECT_GT(unsure_values, 500);  // the unsure stations were exercised
@@ -264,6 +268,10 @@ TEST(LayoutInvariants, AdversarialLayoutsAreRepairedOrRejected) {
        }},
       {"stations-out-of-order", [&](FeatherLayout& f) { std::swap(f.stations_t[3], f.stations_t[4]); }},
       {"short-profile", [&](FeatherLayout& f) { f.right.width_mm.pop_back(); }},
+      {"downy-everywhere", [&](FeatherLayout& f) { all(f, [](VaneProfile& v) { v.afterfeather_to_t = 1.0; }); }},
+      {"downy-one-side", [&](FeatherLayout& f) { f.right.afterfeather_to_t = 0.6; }},
+      {"downy-nan", [&](FeatherLayout& f) { f.left.afterfeather_to_t = std::nan(""); }},
+      {"downy-negative", [&](FeatherLayout& f) { f.left.afterfeather_to_t = -0.2; }},
   };
   for (const Case& c : cases) {
     FeatherLayout f = make_layout(120.0, 8.0, n);

@@ -318,6 +318,42 @@ TEST(LayoutToParams, UnresolvedBarbSpacingFallsBackToThePrior) {
 // The pink photo once gave the right vane two trusted spacing stations, 0.6 mm and
 // a 2.18 mm harmonic; the median of the two took the harmonic and the vane got 54
 // barbs against the left's 197. Too few trusted stations borrow the other side's.
+// A side's downy base (docs/analysis.md, "Downy base") is built as the generator's
+// afterfeather, over the mean of the two sides' share of the vane, and its
+// readings are not the vane's: loose barbs at 85 degrees 3 mm apart neither pull
+// the barb angles above them nor set the barb count.
+TEST(LayoutToParams, ADownyBaseIsBuiltAsLooseBarbsAndItsReadingsAreNotTheVanes) {
+  const FeatherParams plain = layout_to_params(known_layout(), "plain.json").params;
+  EXPECT_FALSE(plain.afterfeather.enabled);
+  FeatherLayout f = known_layout();
+  f.left.afterfeather_to_t = 0.35;
+  f.right.afterfeather_to_t = 0.25;
+  for (VaneProfile* v : {&f.left, &f.right})
+    for (std::size_t i = 0; i < f.stations_t.size(); ++i) {
+      if (f.stations_t[i] < v->afterfeather_to_t) {
+        v->barb_angle_deg[i] = 85.0;
+        v->barb_spacing_mm[i] = 3.0;
+        v->barb_spacing_confidence[i] = 0.9;
+      } else if (i % 4) {  // a quarter of the vane's stations trusted: fewer than the down's
+        v->barb_spacing_confidence[i] = 0.1;
+      }
+    }
+  const LayoutParams lp = layout_to_params(f, "downy.json");
+  const FeatherParams& p = lp.params;
+  ASSERT_TRUE(p.afterfeather.enabled);
+  const double cal = p.shaft.calamus_length / kLength;
+  EXPECT_NEAR(p.afterfeather.fraction, 0.5 * ((0.35 - cal) + (0.25 - cal)) / (1 - cal), 1e-9);
+  EXPECT_TRUE(has_warning(lp.warnings, "downy base")) << lp.warnings.size();
+  EXPECT_NEAR(p.vane_length() / p.barb_count(VaneSide::Left), kSpacing, 0.02);
+  EXPECT_NEAR(p.vane_length() / p.barb_count(VaneSide::Right), kSpacing, 0.02);
+  // As without down: raised where the vane widens fast (at most 20 degrees), not pulled to 85.
+  for (double t : {0.3, 0.4}) {
+    const double x = (t * kLength - p.shaft.calamus_length) / p.vane_length();
+    EXPECT_LE(p.left.angle_deg(x), plain.left.angle_deg(x) + 1e-6) << "t=" << t;
+    EXPECT_LE(p.right.angle_deg(x), plain.right.angle_deg(x) + 1e-6) << "t=" << t;
+  }
+}
+
 TEST(LayoutToParams, TwoTrustedSpacingStationsDoNotSetAVanesBarbCount) {
   FeatherLayout f = known_layout();
   std::fill(f.right.barb_spacing_confidence.begin(), f.right.barb_spacing_confidence.end(), 0.0);

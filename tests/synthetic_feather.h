@@ -34,6 +34,12 @@ struct SyntheticFeather {
   // How far the rachis colour is from the vane's (1: the default dark rachis,
   // smaller: a faint one).
   float rachis_contrast = 1;
+  // A downy base: over this fraction of the vane from its base, on side
+  // `downy_side` (-1 left, +1 right, 0 both), the barbs are soft and faint
+  // (downy_contrast times barb_contrast). 0: none.
+  double downy_to = 0;
+  int downy_side = 0;
+  double downy_contrast = 0.15;
 
   glm::dvec2 dir() const { return {std::cos(dir_deg * kPi / 180), std::sin(dir_deg * kPi / 180)}; }
   glm::dvec2 right() const { return {-dir().y, dir().x}; }  // feather +X, tip up
@@ -59,7 +65,10 @@ struct SyntheticFeather {
     if (std::fabs(x) > hw) return side == wide_side() && hw > 0 && std::fabs(x) <= hw + shadow ? 4 : 0;
     if (side == wide_side() && std::fabs(x) > hw - fringe) return 3;
     const double phase = (y - std::fabs(x) / std::tan(theta_deg * kPi / 180)) / spacing;
-    shade = 1.0 - barb_contrast + barb_contrast * std::cos(2 * kPi * phase);
+    const bool downy = (downy_side == 0 || downy_side == side) &&
+                       y < vane_start() + downy_to * (length - vane_start());
+    const double c = downy ? downy_contrast * barb_contrast : barb_contrast;
+    shade = 1.0 - c + c * std::cos(2 * kPi * phase);
     return 1;
   }
   bool inside(glm::dvec2 p) const {

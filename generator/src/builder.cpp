@@ -159,9 +159,14 @@ struct VaneBuilder {
         const double a = 1 - x / af.fraction;
         const double phase = loose_rng.uniform(0, 2 * kPi);
         const double up = (loose_rng.uniform() < 0.5 ? -1.0 : 1.0) * loose_rng.uniform(0.5, 1.0);
+        // Still leaving the shaft toward the tip: the wave moves a barb's first
+        // point along the shaft by at most half its own step there (where the
+        // vane is narrow, a short barb would otherwise start back toward the
+        // calamus; tests/layout_invariants_test.cpp).
+        const double wave = std::clamp(0.5 * (s[k][1] - s[k][0]) * (K - 1), 0.0, af.wave * a);
         for (int j = 1; j < K; ++j) {
           const double v = double(j) / (K - 1);
-          s[k][j] += af.wave * a * v * std::sin(2 * kPi * af.waves * v + phase);
+          s[k][j] += wave * v * std::sin(2 * kPi * af.waves * v + phase);
           lift[std::size_t(k) * K + j] = af.lift * a * up * v * v;
         }
       }

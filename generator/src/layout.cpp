@@ -79,7 +79,8 @@ ojson profile(const VaneProfile& v) {
           {"barb_angle_deg", v.barb_angle_deg},
           {"barb_angle_confidence", v.barb_angle_confidence},
           {"barb_spacing_mm", v.barb_spacing_mm},
-          {"barb_spacing_confidence", v.barb_spacing_confidence}};
+          {"barb_spacing_confidence", v.barb_spacing_confidence},
+          {"afterfeather_to_t", v.afterfeather_to_t}};
 }
 
 // --- strict reading: every access names its JSON path -----------------------
@@ -168,6 +169,9 @@ struct Reader {
         numbers(member(j, path, "barb_spacing_mm"), path + "/barb_spacing_mm", n, 0.0);
     v.barb_spacing_confidence = numbers(member(j, path, "barb_spacing_confidence"),
                                         path + "/barb_spacing_confidence", n, 0, 1);
+    // Optional: layouts written before the downy base was measured have none.
+    if (j.contains("afterfeather_to_t"))
+      v.afterfeather_to_t = number(j["afterfeather_to_t"], path + "/afterfeather_to_t", 0, 1);
     return v;
   }
 

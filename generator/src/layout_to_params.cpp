@@ -51,6 +51,10 @@ void check_layout(const FeatherLayout& f, const Checker& c) {
   const auto& t = f.stations_t;
   if (t.size() < 2) c.fail(at + " stations_t", "needs at least 2 stations, got " + std::to_string(t.size()));
   c.finite(at + " stations_t", t);
+  for (const auto& [name, v] : {std::pair{"left", &f.left}, std::pair{"right", &f.right}})
+    if (!(v->afterfeather_to_t >= 0.0 && v->afterfeather_to_t <= 1.0))
+      c.fail(at + " vanes." + name + ".afterfeather_to_t",
+             "value " + num(v->afterfeather_to_t) + " is out of range; allowed [0, 1]");
   for (std::size_t i = 0; i < t.size(); ++i) {
     if (t[i] < 0.0 || t[i] > 1.0) c.fail(at + " stations_t[" + std::to_string(i) + "]", "must lie in [0, 1]");
     if (i > 0 && !(t[i] > t[i - 1]))
@@ -472,6 +476,47 @@ double barb_spacing_prior_mm(double length_mm) {
   return std::clamp(0.25 + 0.002 * length_mm, 0.25, 0.75);
 }
 
+BarbSpacingReading resolved_barb_spacing(const FeatherLayout& f, VaneSide side) {
+  const VaneProfile& v = side == VaneSide::Left ? f.left : f.right;
+  BarbSpacingReading out;
+  std::vector<double> values;
+  for (std::size_t i = 0; i < f.stations_t.size(); ++i)
+    if (v.barb_spacing_confidence[i] >= kLayoutMinConfidence && v.barb_spacing_mm[i] > 0 &&
+        f.stations_t[i] >= v.afterfeather_to_t)
+      values.push_back(v.barb_spacing_mm[i]);
+  // A side's spacing is the median of its trusted stations, but only when there are
+  // enough of them for a median to reject an outlier: with one or two, a single
+  // harmonic mistaken for the period (twice the true spacing, say) would halve
+  // the barb count of the whole vane.
+  constexpr std::size_t kMinSpacingStations = 3;
+  if (values.size() < kMinSpacingStations) return out;
+  // The photo resolves barbs only when (docs/analysis.md, "Barb density") the
+  // period spans at least kMinPeriodPx pixels, the stations agree (median
+  // absolute deviation within kMaxSpread of the median), and the spacing is
+  // within a factor kPriorFactor of the prior: a "period" of texture, bars or
+  // harmonics at a scale that cannot resolve barbs fails one of the three.
+  constexpr double kMinPeriodPx = 2.5, kMaxSpread = 0.25, kPriorFactor = 4.0;
+  const double prior = barb_spacing_prior_mm(f.length_mm);
+  // Photo millimetres per pixel: the length of a column of the similarity.
+  const double mm_per_px = glm::length(glm::dvec2(f.feather_from_image[0]));
+  const double m = median(values);
+  std::vector<double> dev;
+  for (double x : values) dev.push_back(std::fabs(x - m));
+  const double spread = median(dev) / m;
+  std::ostringstream why;
+  if (std::isfinite(mm_per_px) && mm_per_px > 0 && m / mm_per_px < kMinPeriodPx)
+    why << "its period " << num(m / mm_per_px) << " px is under " << kMinPeriodPx << " px";
+  else if (spread > kMaxSpread)
+    why << "its stations disagree (spread " << std::lround(100 * spread) << " % of the median)";
+  else if (m < prior / kPriorFactor || m > prior * kPriorFactor)
+    why << num(m) << " mm is not within x" << kPriorFactor << " of the prior " << num(prior) << " mm";
+  if (why.str().empty())
+    out.mm = m;
+  else
+    out.refused = why.str();
+  return out;
+}
+
 LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source) {
   const Checker check{source};
   check_layout(f, check);
@@ -504,44 +549,14 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
 
   const double vane_length = L - p.shaft.calamus_length;
   const double prior = barb_spacing_prior_mm(L);
-  // Photo millimetres per pixel: the length of a column of the similarity.
-  const double mm_per_px = glm::length(glm::dvec2(f.feather_from_image[0]));
   std::optional<double> spacing[2];
   std::string refused[2];
   const VaneProfile* sides[2] = {&f.left, &f.right};
   const char* names[2] = {"left", "right"};
-  // A side's spacing is the median of its trusted stations, but only when there are
-  // enough of them for a median to reject an outlier: with one or two, a single
-  // harmonic mistaken for the period (twice the true spacing, say) would halve
-  // the barb count of the whole vane. Such a side borrows the other side's.
-  constexpr std::size_t kMinSpacingStations = 3;
   for (int s = 0; s < 2; ++s) {
-    const auto sp = trusted(f.stations_t, sides[s]->barb_spacing_mm, sides[s]->barb_spacing_confidence);
-    std::vector<double> values;
-    for (const auto& q : sp)
-      if (q.y > 0) values.push_back(q.y);
-    if (values.size() < kMinSpacingStations) continue;
-    // The photo resolves barbs only when (docs/analysis.md, "Barb density") the
-    // period spans at least kMinPeriodPx pixels, the stations agree (median
-    // absolute deviation within kMaxSpread of the median), and the spacing is
-    // within a factor kPriorFactor of the prior: a "period" of texture, bars or
-    // harmonics at a scale that cannot resolve barbs fails one of the three.
-    constexpr double kMinPeriodPx = 2.5, kMaxSpread = 0.25, kPriorFactor = 4.0;
-    const double m = median(values);
-    std::vector<double> dev;
-    for (double v : values) dev.push_back(std::fabs(v - m));
-    const double spread = median(dev) / m;
-    std::ostringstream why;
-    if (std::isfinite(mm_per_px) && mm_per_px > 0 && m / mm_per_px < kMinPeriodPx)
-      why << "its period " << num(m / mm_per_px) << " px is under " << kMinPeriodPx << " px";
-    else if (spread > kMaxSpread)
-      why << "its stations disagree (spread " << std::lround(100 * spread) << " % of the median)";
-    else if (m < prior / kPriorFactor || m > prior * kPriorFactor)
-      why << num(m) << " mm is not within x" << kPriorFactor << " of the prior " << num(prior) << " mm";
-    if (why.str().empty())
-      spacing[s] = m;
-    else
-      refused[s] = why.str();
+    BarbSpacingReading r = resolved_barb_spacing(f, s == 0 ? VaneSide::Left : VaneSide::Right);
+    spacing[s] = r.mm;
+    refused[s] = std::move(r.refused);
   }
   for (int s = 0; s < 2; ++s) {
     const VaneProfile& v = *sides[s];
@@ -564,7 +579,11 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
     // Barb angles: the readings that can be barbs, smoothed along the shaft with
     // their confidences; the rest take their neighbours' value (docs/analysis.md,
     // "Barb angles along the shaft").
-    const BarbAngleFit a = barb_angles_along_shaft(f.stations_t, v.barb_angle_deg, v.barb_angle_confidence, calamus_t);
+    // The downy base's barbs are loose, at no one angle: its readings are not the vane's.
+    std::vector<double> angle_confidence = v.barb_angle_confidence;
+    for (std::size_t i = 0; i < f.stations_t.size(); ++i)
+      if (f.stations_t[i] < v.afterfeather_to_t) angle_confidence[i] = 0;
+    const BarbAngleFit a = barb_angles_along_shaft(f.stations_t, v.barb_angle_deg, angle_confidence, calamus_t);
     if (a.backward)
       out.warnings.push_back(side + " barb angle: " + std::to_string(a.backward) +
                              " station(s) above 90 degrees ignored");
@@ -597,6 +616,22 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
     // Barbs per side = vane length / spacing along the shaft (docs/layout-format.md).
     vp.barb_density = 0;
     vp.barbs = int(std::clamp(std::lround(vane_length / d), 2L, 5000L));
+  }
+  // A downy base: the generator's afterfeather, loose barbs over one basal
+  // fraction of both vanes (the mean of the two sides', a side without one
+  // counting 0), from where the vane begins.
+  double downy[2];
+  for (int s = 0; s < 2; ++s)
+    downy[s] = std::clamp((sides[s]->afterfeather_to_t - calamus_t) / (1.0 - calamus_t), 0.0, 0.9);
+  if (downy[0] > 0 || downy[1] > 0) {
+    p.afterfeather.enabled = true;
+    p.afterfeather.fraction = 0.5 * (downy[0] + downy[1]);
+    // The photo does not show how far loose barbs wave and lift; the default's
+    // 1 mm, scaled down on feathers shorter than 10 cm.
+    p.afterfeather.wave = p.afterfeather.lift = std::min(1.0, 0.01 * L);
+    out.warnings.push_back("downy base (left " + num(std::round(100 * downy[0])) + " %, right " +
+                           num(std::round(100 * downy[1])) + " % of the vane) built as loose afterfeather barbs over " +
+                           num(std::round(100 * p.afterfeather.fraction)) + " % of both vanes");
   }
   make_buildable(p, out.warnings);
   validate(p, source);

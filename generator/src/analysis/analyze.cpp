@@ -12,6 +12,7 @@
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
+#include "plumage/generator/layout_to_params.h"
 #include "steps.h"
 
 namespace plumage {
@@ -270,10 +271,21 @@ void analyze_feather(const Photo& photo, const Segmentation& seg, const Componen
   f.shaft_width_mm = shaft.width_px * mm_per_work_px;
   f.shaft_confidence = shaft.confidence;
 
-  const VaneMeasure vm = measure_vanes(photo.bgr, comp, shaft_px, shaft.width_px, opt.stations);
+  VaneMeasure vm = measure_vanes(photo.bgr, comp, shaft_px, shaft.width_px, opt.stations);
   f.stations_t = vm.t;
   f.left = to_profile(vm.left, mm_per_work_px);
   f.right = to_profile(vm.right, mm_per_work_px);
+  // Down is told from vane by its texture at the barb scale, so only where the
+  // photo resolves barbs (on either side).
+  double period_mm = 0;
+  for (VaneSide side : {VaneSide::Left, VaneSide::Right})
+    if (const auto r = resolved_barb_spacing(f, side); r.mm) period_mm = period_mm > 0 ? std::min(period_mm, *r.mm) : *r.mm;
+  if (period_mm > 0) {
+    for (auto [measure, profile] : {std::pair{&vm.left, &f.left}, std::pair{&vm.right, &f.right}}) {
+      find_downy_base(*measure, vm.t, period_mm / mm_per_work_px);
+      profile->afterfeather_to_t = measure->afterfeather_to_t;
+    }
+  }
   clock.lap("vanes");
   f.touches_border = comp.touches_border;
   if (comp.touches_border)

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
-#include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
 #include "label_placement.h"
+#include "plumage/common/constants.h"
 #include "plumage/generator/layout_to_params.h"
 #include "steps.h"
 
@@ -45,7 +45,7 @@ PlacedLabel place_label(LabelPlacer& placer, std::string text, std::vector<std::
   const cv::Size box(ts.width + 4, ts.height + base + 4);
   for (int ring = 1; ring <= 8; ++ring)
     for (int k = 0; k < 8; ++k) {
-      const double a = k * std::numbers::pi / 4;
+      const double a = k * kPi / 4;
       const double dx = std::cos(a) * (0.5 * box.width + ring * box.height);
       const double dy = std::sin(a) * (0.5 * box.height + ring * box.height);
       corners.push_back({int(std::lround(anchor.x + dx - 0.5 * box.width)),
@@ -103,7 +103,7 @@ cv::Mat draw_overlay(const cv::Mat& bgr, const std::vector<OverlayFeather>& feat
   const int th = std::max(1, int(std::lround(dim / 900)));
   const double font = std::max(0.4, dim / 2000);
   const cv::Scalar green(60, 220, 60), red(40, 40, 255), yellow(0, 230, 255), cyan(255, 230, 0),
-      blue(255, 120, 0), white(255, 255, 255), grey(150, 150, 150);
+      blue(255, 120, 0), white(255, 255, 255), grey(150, 150, 150), magenta(255, 60, 255);
   // Scale bar: a round number of millimetres near a tenth of the width.
   const double target_mm = 0.12 * img.cols * mm_per_px;
   double bar_mm = 1;
@@ -162,14 +162,29 @@ cv::Mat draw_overlay(const cv::Mat& bgr, const std::vector<OverlayFeather>& feat
         const SideMeasure& S = side < 0 ? f.vanes.left : f.vanes.right;
         const double w = S.width_px[k];
         if (w < 4) continue;
-        const double a = S.angle_deg[k] * std::numbers::pi / 180.0;
+        const double a = S.angle_deg[k] * kPi / 180.0;
         const glm::dvec2 b = T * std::cos(a) + N * (side * std::sin(a));
         const glm::dvec2 m = C + N * (side * 0.5 * w);
+        if (k < S.downy.size() && S.downy[k]) {  // the downy base: a dot, no barb direction
+          cv::circle(img, px(C + N * (side * 0.5 * w)), 2 * th, magenta, cv::FILLED, cv::LINE_AA);
+          continue;
+        }
         const bool trusted = S.angle_conf[k] >= kLayoutMinConfidence;
         const double len = (trusted ? 0.4 : 0.15) * w;
         cv::line(img, px(m - b * (0.5 * len)), px(m + b * (0.5 * len)),
                  trusted ? (side < 0 ? yellow : cyan) : grey, th, cv::LINE_AA);
       }
+    }
+    // Where each side's downy base ends: a line across that side's vane.
+    for (int side : {-1, +1}) {
+      const SideMeasure& S = side < 0 ? f.vanes.left : f.vanes.right;
+      if (!(S.afterfeather_to_t > 0)) continue;
+      const double t = S.afterfeather_to_t;
+      const auto near = std::lower_bound(f.vanes.t.begin(), f.vanes.t.end(), t);
+      const double w = S.width_px[std::min<std::size_t>(near - f.vanes.t.begin(), f.vanes.t.size() - 1)];
+      const glm::dvec2 C = f.shaft_px.eval(t), T = glm::normalize(f.shaft_px.deriv(t));
+      const glm::dvec2 N(-T.y, T.x);
+      cv::line(img, px(C), px(C + N * (side * w)), magenta, th, cv::LINE_AA);
     }
     std::ostringstream s;
     s << "F" << f.id << " " << std::lround(f.length_mm) << "mm";

@@ -246,7 +246,48 @@ void angle_mode(const cv::Mat& Jxx, const cv::Mat& Jxy, const cv::Mat& Jyy, cons
   conf = std::clamp(1.4 * share * mean_coherence, 0.0, 1.0);
 }
 
+// The fine texture of a window: RMS of `fine` over the pixels angle_mode reads.
+void texture_rms(const cv::Mat& fine, const cv::Mat& interior, int R, int side, int j0, int j1, int inner,
+                 int outer, double& rms, int& count) {
+  double sum = 0;
+  count = 0;
+  for (int j = j0; j < j1; ++j)
+    for (int o = inner; o <= outer; ++o) {
+      const int i = R + side * o;
+      if (i < 0 || i >= fine.cols || !interior.at<uchar>(j, i)) continue;
+      const double v = fine.at<float>(j, i);
+      sum += v * v;
+      ++count;
+    }
+  rms = count ? std::sqrt(sum / count) : 0.0;
+}
+
 }  // namespace
+
+void find_downy_base(SideMeasure& S, const std::vector<double>& t, double period_px) {
+  S.downy.assign(t.size(), 0);
+  S.afterfeather_to_t = 0;
+  // A station's texture is read when its window holds a patch of at least two
+  // barb periods square; the vane's is the median over the middle of the shaft,
+  // where a feather is pennaceous.
+  const double min_px = 4 * period_px * period_px;
+  std::vector<double> middle;
+  for (std::size_t k = 0; k < t.size(); ++k)
+    if (t[k] >= 0.4 && t[k] <= 0.8 && S.texture_px[k] >= min_px) middle.push_back(S.texture[k]);
+  if (middle.empty()) return;
+  const double vane = median(middle);
+  // From the first station with a texture toward the tip, while it stays downy.
+  std::size_t k = 0;
+  while (k < t.size() && S.texture_px[k] < min_px) ++k;
+  const std::size_t first = k;
+  while (k < t.size() && S.texture_px[k] >= min_px && S.texture[k] < kDownyTexture * vane) ++k;
+  // Two stations at least (one can be a window caught on the vane's ragged
+  // base), and a base, not half the feather.
+  constexpr std::size_t kMinStations = 2;
+  if (k - first < kMinStations || k >= t.size() || t[k - 1] >= 0.5) return;
+  for (std::size_t i = first; i < k; ++i) S.downy[i] = 1;
+  S.afterfeather_to_t = 0.5 * (t[k - 1] + t[k]);
+}
 
 VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2& shaft,
                           double shaft_width_px, int stations) {
@@ -348,6 +389,11 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
       const int inner = int(std::max(shaft_width_px, 0.15 * w)), outer = int(0.85 * w);
       double angle = NAN, conf = 0;
       if (outer > inner) angle_mode(Jxx, Jxy, Jyy, edge, interior, U.R, side, j0, j1, inner, outer, angle, conf);
+      double texture = 0;
+      int texture_px = 0;
+      if (outer > inner) texture_rms(fine, interior, U.R, side, j0, j1, inner, outer, texture, texture_px);
+      S.texture.push_back(texture);
+      S.texture_px.push_back(texture_px);
       // Barbs leave the shaft toward the tip: an orientation pointing back
       // toward the calamus is something else (an edge, a split) and not trusted.
       S.angle_deg.push_back(angle);

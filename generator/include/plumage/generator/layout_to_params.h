@@ -89,6 +89,19 @@ BarbAngleFit barb_angles_along_shaft(const std::vector<double>& t, const std::ve
 // "Barb density": 0.25 mm + 0.2 % of the length, within [0.25, 0.75] mm).
 double barb_spacing_prior_mm(double length_mm);
 
+// One side's barb spacing, when the photo resolves its barbs (docs/analysis.md,
+// "Barb density"): the median of its stations trusted (confidence >=
+// kLayoutMinConfidence) above its downy base, when there are at least three of
+// them, the period spans at least 2.5 photo pixels, they agree (median absolute
+// deviation within 25 % of the median) and it is within a factor 4 of
+// barb_spacing_prior_mm. `refused` says which test failed, for a person; both
+// are empty when too few stations are trusted.
+struct BarbSpacingReading {
+  std::optional<double> mm;
+  std::string refused;
+};
+BarbSpacingReading resolved_barb_spacing(const FeatherLayout& layout, VaneSide side);
+
 // The gap between neighbouring barbs of one vane of a built feather: for each
 // barb, the distance from the middle of its control polygon to the next barb's,
 // and of those the kBarbGapQuantile quantile (mm; 0 with fewer than two barbs).

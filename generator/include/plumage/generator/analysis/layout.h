@@ -34,6 +34,10 @@ struct VaneProfile {
   std::vector<double> barb_angle_deg, barb_angle_confidence;
   // Distance between neighbouring barb roots measured along the shaft.
   std::vector<double> barb_spacing_mm, barb_spacing_confidence;
+  // The side's downy base (docs/analysis.md, "Downy base"): below this shaft
+  // fraction its barbs are loose and fluffy (plumulaceous), not an interlocked
+  // vane; 0 when there is none. Its barb angles and spacing are not the vane's.
+  double afterfeather_to_t = 0;
 };
 
 struct AlbedoTexture {
