@@ -69,7 +69,8 @@ for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
         for line in gen.splitlines():
             if "warning:" not in line: continue
             w = line.split(": ", 3)[-1]
-            key = ("spacing: prior" if "used the prior" in w else "spacing: other vane" if "vane's" in w
+            key = ("downy base built loose" if "downy base" in w
+                   else "spacing: prior" if "used the prior" in w else "spacing: other vane" if "vane's" in w
                    else "angle raised (fanning)" if "fan apart" in w
                    else "angle raised (vane widens)" if "raised where" in w else "angle held" if "held back" in w
                    else "angles < 15 deg ignored" if "below 15" in w else "angles > 90 deg ignored" if "above 90" in w
