@@ -457,6 +457,16 @@ TEST(Layout, RoundTripsAndRejectsBadContentWithItsPath) {
   fails_with(replaced("\"file\": \"f.feather1.albedo.png\"", "\"file\": \"../x.png\""),
              "/feathers/0/albedo/file");
   fails_with(replaced("\"feathers\": [", "\"feathers\": [] , \"x\": ["), "/feathers");
+  fails_with(replaced("\"afterfeather_to_t\": 0", "\"afterfeather_to_t\": 1.5"),
+             "/feathers/0/vanes/left/afterfeather_to_t");
+  // The downy base is optional (layouts written before it was measured): read as none.
+  std::string old = text;
+  for (std::size_t k; (k = old.find(",\n          \"afterfeather_to_t\": 0")) != std::string::npos;)
+    old.erase(k, std::string(",\n          \"afterfeather_to_t\": 0").size());
+  ASSERT_EQ(old.find("afterfeather_to_t"), std::string::npos);
+  const Layout O = parse_layout(old, "old.json");
+  EXPECT_EQ(O.feathers.at(0).left.afterfeather_to_t, 0.0);
+  EXPECT_EQ(layout_to_json(O), text);
 }
 
 // --- the real photos ------------------------------------------------------------
