@@ -166,7 +166,7 @@ cv::Mat draw_overlay(const cv::Mat& bgr, const std::vector<OverlayFeather>& feat
         const glm::dvec2 b = T * std::cos(a) + N * (side * std::sin(a));
         const glm::dvec2 m = C + N * (side * 0.5 * w);
         if (k < S.downy.size() && S.downy[k]) {  // the downy base: a dot, no barb direction
-          cv::circle(img, px(C + N * (side * 0.5 * w)), 2 * th, magenta, cv::FILLED, cv::LINE_AA);
+          cv::circle(img, px(m), 2 * th, magenta, cv::FILLED, cv::LINE_AA);
           continue;
         }
         const bool trusted = S.angle_conf[k] >= kLayoutMinConfidence;

@@ -198,6 +198,18 @@ constexpr double kEdgeShare = 0.25, kEdgeScalePx = 2.0;
 // weighted mean of the orientations within 8 degrees of it. Confidence: the
 // share of the (edge-scaled) coherence within 10 degrees of the mode times
 // their mean, scaled by 1.4 so a clean barb pattern reads ~1.
+// The pixels a station's barb angle and fine texture are read from: rows j0..j1 of
+// the unrolled image, offsets inner..outer from the shaft on `side`, inside the
+// eroded mask `interior`; fn(j, i) for each.
+template <typename Fn>
+void for_each_window_pixel(const cv::Mat& interior, int R, int side, int j0, int j1, int inner, int outer, Fn fn) {
+  for (int j = j0; j < j1; ++j)
+    for (int o = inner; o <= outer; ++o) {
+      const int i = R + side * o;
+      if (i >= 0 && i < interior.cols && interior.at<uchar>(j, i)) fn(j, i);
+    }
+}
+
 void angle_mode(const cv::Mat& Jxx, const cv::Mat& Jxy, const cv::Mat& Jyy, const cv::Mat& edge,
                 const cv::Mat& interior, int R, int side, int j0, int j1, int inner, int outer, double& angle,
                 double& conf) {
@@ -208,24 +220,21 @@ void angle_mode(const cv::Mat& Jxx, const cv::Mat& Jxy, const cv::Mat& Jyy, cons
   };
   std::vector<Vote> votes;
   double total = 0;
-  for (int j = j0; j < j1; ++j)
-    for (int o = inner; o <= outer; ++o) {
-      const int i = R + side * o;
-      if (i < 0 || i >= Jxx.cols || !interior.at<uchar>(j, i)) continue;
-      const double a = Jxx.at<float>(j, i), b = Jxy.at<float>(j, i), d = Jyy.at<float>(j, i);
-      if (!(a + d > 1e-9)) continue;
-      const double coherence = std::sqrt((a - d) * (a - d) + 4 * b * b) / (a + d);
-      // Dominant gradient direction; barbs run across it.
-      const double phi = 0.5 * std::atan2(2 * b, a - d);
-      double bo = -std::sin(phi), bs = std::cos(phi);  // (offset, arc length)
-      if (bo * side < 0) bo = -bo, bs = -bs;           // point away from the shaft
-      const double deg = std::acos(std::clamp(bs, -1.0, 1.0)) * 180.0 / kPi;
-      const double barb = std::clamp(1.0 - edge.at<float>(j, i) / kEdgeShare, 0.0, 1.0);
-      if (!(barb > 0)) continue;
-      total += coherence * barb;
-      hist[std::min(179, int(deg))] += coherence * barb;
-      votes.push_back({float(deg), float(coherence * barb)});
-    }
+  for_each_window_pixel(interior, R, side, j0, j1, inner, outer, [&](int j, int i) {
+    const double a = Jxx.at<float>(j, i), b = Jxy.at<float>(j, i), d = Jyy.at<float>(j, i);
+    if (!(a + d > 1e-9)) return;
+    const double coherence = std::sqrt((a - d) * (a - d) + 4 * b * b) / (a + d);
+    // Dominant gradient direction; barbs run across it.
+    const double phi = 0.5 * std::atan2(2 * b, a - d);
+    double bo = -std::sin(phi), bs = std::cos(phi);  // (offset, arc length)
+    if (bo * side < 0) bo = -bo, bs = -bs;           // point away from the shaft
+    const double deg = std::acos(std::clamp(bs, -1.0, 1.0)) * 180.0 / kPi;
+    const double barb = std::clamp(1.0 - edge.at<float>(j, i) / kEdgeShare, 0.0, 1.0);
+    if (!(barb > 0)) return;
+    total += coherence * barb;
+    hist[std::min(179, int(deg))] += coherence * barb;
+    votes.push_back({float(deg), float(coherence * barb)});
+  });
   if (!(total > 0)) return;
   int best = 0;
   double best_v = -1;
@@ -251,14 +260,11 @@ void texture_rms(const cv::Mat& fine, const cv::Mat& interior, int R, int side, 
                  int outer, double& rms, int& count) {
   double sum = 0;
   count = 0;
-  for (int j = j0; j < j1; ++j)
-    for (int o = inner; o <= outer; ++o) {
-      const int i = R + side * o;
-      if (i < 0 || i >= fine.cols || !interior.at<uchar>(j, i)) continue;
-      const double v = fine.at<float>(j, i);
-      sum += v * v;
-      ++count;
-    }
+  for_each_window_pixel(interior, R, side, j0, j1, inner, outer, [&](int j, int i) {
+    const double v = fine.at<float>(j, i);
+    sum += v * v;
+    ++count;
+  });
   rms = count ? std::sqrt(sum / count) : 0.0;
 }
 
@@ -387,11 +393,12 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
       // across the vane (a minority of pixels, at about 90 degrees), highlights
       // and splits do not pull it (angle_mode).
       const int inner = int(std::max(shaft_width_px, 0.15 * w)), outer = int(0.85 * w);
-      double angle = NAN, conf = 0;
-      if (outer > inner) angle_mode(Jxx, Jxy, Jyy, edge, interior, U.R, side, j0, j1, inner, outer, angle, conf);
-      double texture = 0;
+      double angle = NAN, conf = 0, texture = 0;
       int texture_px = 0;
-      if (outer > inner) texture_rms(fine, interior, U.R, side, j0, j1, inner, outer, texture, texture_px);
+      if (outer > inner) {
+        angle_mode(Jxx, Jxy, Jyy, edge, interior, U.R, side, j0, j1, inner, outer, angle, conf);
+        texture_rms(fine, interior, U.R, side, j0, j1, inner, outer, texture, texture_px);
+      }
       S.texture.push_back(texture);
       S.texture_px.push_back(texture_px);
       // Barbs leave the shaft toward the tip: an orientation pointing back
