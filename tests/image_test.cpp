@@ -186,10 +186,11 @@ TEST_F(ImageFiles, ExrRoundTripIsBitExact) {
 
 TEST_F(ImageFiles, JpegKeepsRowOrderChannelsAndCodes) {
   // Pictures smooth in their sRGB codes and asymmetric (a transposed, flipped
-  // or channel-swapped decode fails), written through the image module at
-  // quality 100 and read back through libjpeg: every 8-bit code within a few
-  // steps of the original (chroma is stored at half resolution).
-  for (int channels : {1, 3}) {
+  // or channel-swapped decode fails), written at quality 100 and read back,
+  // both through libjpeg: every 8-bit code within a few steps of the original
+  // (chroma is stored at half resolution). A JPEG holds grey or RGB: the alpha
+  // of 2 or 4 channels is left out, the colour kept.
+  for (int channels : {1, 2, 3, 4}) {
     Image img(48, 32, channels);
     for (int y = 0; y < img.height; ++y)
       for (int x = 0; x < img.width; ++x)
@@ -199,15 +200,36 @@ TEST_F(ImageFiles, JpegKeepsRowOrderChannelsAndCodes) {
     const fs::path f = dir_ / ("ramp" + std::to_string(channels) + ".jpg");
     write_image(f, img, 100);
     const Image back = read_image(f, false);
+    const int colour = channels >= 3 ? 3 : 1;
     ASSERT_EQ(back.width, img.width);
     ASSERT_EQ(back.height, img.height);
-    ASSERT_EQ(back.channels, channels);
+    ASSERT_EQ(back.channels, colour);
     // What was written: the linear values as sRGB codes.
     double worst = 0;
-    for (std::size_t i = 0; i < img.pixels.size(); ++i)
-      worst = std::max(worst, std::fabs(double(back.pixels[i]) - srgb_encode(img.pixels[i])) * 255);
+    for (std::size_t p = 0; p < std::size_t(img.width) * img.height; ++p)
+      for (int c = 0; c < colour; ++c)
+        worst = std::max(worst, std::fabs(double(back.pixels[p * colour + c]) -
+                                          srgb_encode(img.pixels[p * channels + c])) * 255);
     EXPECT_LE(worst, 6.0) << channels << " channel(s)";
   }
+}
+
+TEST_F(ImageFiles, JpegQualityIsHonouredAndDefaultsTo98) {
+  // Noise is what compression throws away: at quality 20 the file is a
+  // fraction of the default's, and the default writes what 98 writes.
+  const Image noise = random_image(96, 64, 3, 0, 1, 11);
+  write_image(dir_ / "q0.jpg", noise);
+  write_image(dir_ / "q98.jpg", noise, 98);
+  write_image(dir_ / "q20.jpg", noise, 20);
+  EXPECT_EQ(read_file(dir_ / "q0.jpg"), read_file(dir_ / "q98.jpg"));
+  EXPECT_LT(fs::file_size(dir_ / "q20.jpg") * 3, fs::file_size(dir_ / "q98.jpg"));
+}
+
+TEST_F(ImageFiles, JpegOfMoreThanFourChannelsIsRefusedAndNothingIsWritten) {
+  const fs::path f = dir_ / "five.jpg";
+  expect_error_naming(f, [&] { write_image(f, Image(8, 8, 5, 0.5f)); });
+  EXPECT_FALSE(fs::exists(f));
+  EXPECT_TRUE(fs::is_empty(dir_)) << "a temporary file was left behind";
 }
 
 TEST_F(ImageFiles, DamagedJpegIsAnErrorNamingTheFile) {

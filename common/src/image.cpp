@@ -99,6 +99,8 @@ void encode_image(const fs::path& file, const fs::path& path, const Image& img, 
   const std::string ext = lower_ext(path);
   if (ext == ".exr") return codec::write_exr(file, path, img);
   if (ext == ".png") return codec::write_png(file, path, img.width, img.height, img.channels, srgb_bytes(img));
+  if (ext == ".jpg" || ext == ".jpeg")
+    return codec::write_jpeg(file, path, img.width, img.height, img.channels, srgb_bytes(img), quality);
   const std::string format = ext.empty() ? std::string() : ext.substr(1);
   if (ext == ".hdr")
     return codec::write_with_module(file, path, format, img.width, img.height, img.channels, true, img.pixels.data(), 0);

@@ -1,10 +1,10 @@
 #pragma once
 // The decoders and encoders behind read_image and write_image (image.h): PNG
-// through libpng, OpenEXR through the OpenEXR library and (reading only) JPEG
-// through libjpeg, all linked into the process; every other format through
-// OpenImageIO, which lives in a module loaded on first use (image_module.cpp)
-// so that a process that only reads PNG, EXR and JPEG and writes PNG and EXR
-// never loads it. Private to common/.
+// through libpng, OpenEXR through the OpenEXR library and JPEG through libjpeg
+// (grey and RGB; CMYK and YCCK are read by the module), all linked into the
+// process; every other format through OpenImageIO, which lives in a module
+// loaded on first use (image_module.cpp) so that a process that reads and
+// writes only PNG, EXR and JPEG never loads it. Private to common/.
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -48,6 +48,12 @@ void write_png(const std::filesystem::path& file, const std::filesystem::path& t
 // Float samples, ZIP-compressed, channels named as OpenImageIO names them (Y; R G;
 // R G B; R G B A; then channel4, channel5, ...).
 void write_exr(const std::filesystem::path& file, const std::filesystem::path& target, const Image& img);
+// 8-bit samples as write_png takes them, 1 to 4 channels; a JPEG holds grey or
+// RGB, so the alpha of 2 or 4 channels is left out. `quality` 1-100, 0 for
+// kDefaultJpegQuality; 4:2:0 chroma, as libjpeg's defaults.
+inline constexpr int kDefaultJpegQuality = 98;
+void write_jpeg(const std::filesystem::path& file, const std::filesystem::path& target, int width, int height,
+                int channels, const std::vector<unsigned char>& bytes, int quality);
 // Any other format OpenImageIO writes, chosen by `format` (the target's extension
 // without its dot); `samples` are float when `is_float`, else 8-bit. `quality`
 // (1-100, 0 for the writer's default) is the JPEG quality.

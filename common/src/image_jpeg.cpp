@@ -1,6 +1,7 @@
 // JPEG through libjpeg (libjpeg-turbo on Debian; image_codecs.h). Most photos
 // are JPEG, and decoding them here spares a process OpenImageIO's module and
-// its ~260 libraries (about 0.25 s to load, docs/perf/analysis.md). CMYK and
+// its ~260 libraries (about 0.25 s to load, docs/perf/analysis.md); overlays
+// and study pictures are written as JPEG here for the same reason. CMYK and
 // YCCK files, whose colour needs converting, still go to the module. libjpeg
 // reports errors through an error_exit that must not return, so it jumps back
 // to the frame that called into libjpeg; that frame owns only libjpeg's state,
@@ -21,38 +22,52 @@ namespace plumage::codec {
 namespace fs = std::filesystem;
 
 namespace {
-// libjpeg's state for one file, with its error text and the jump back from it.
-struct JpegFile {
-  jpeg_decompress_struct cinfo{};
-  jpeg_error_mgr err{};
-  bool created = false;
-  std::FILE* file = nullptr;
+// libjpeg's error handling for one file: its error text and the jump back.
+struct JpegErrors {
+  jpeg_error_mgr mgr{};
   char error[JMSG_LENGTH_MAX] = {};
   std::jmp_buf jump;
-  ~JpegFile() {
-    if (created) jpeg_destroy_decompress(&cinfo);
-    if (file != nullptr) std::fclose(file);
-  }
 };
 
 [[noreturn]] void on_error(j_common_ptr cinfo) {
-  auto* f = static_cast<JpegFile*>(cinfo->client_data);
-  (*cinfo->err->format_message)(cinfo, f->error);
-  std::longjmp(f->jump, 1);
+  auto* e = static_cast<JpegErrors*>(cinfo->client_data);
+  (*cinfo->err->format_message)(cinfo, e->error);
+  std::longjmp(e->jump, 1);
 }
 // Warnings (extraneous bytes before a marker, a corrupt entropy segment) are
 // dropped: the pixels libjpeg hands back are the answer, and stderr stays ours.
 void on_message(j_common_ptr) {}
+
+// Points `cinfo` (a jpeg_compress_struct or jpeg_decompress_struct) at `e`.
+template <class Info>
+void attach(Info& cinfo, JpegErrors& e) {
+  cinfo.err = jpeg_std_error(&e.mgr);
+  e.mgr.error_exit = on_error;
+  e.mgr.output_message = on_message;
+  cinfo.client_data = &e;
+}
+
+// libjpeg's state for one file: a jpeg_decompress_struct to read, a
+// jpeg_compress_struct to write (jpeg_destroy frees either).
+template <class Info>
+struct JpegState : JpegErrors {
+  Info cinfo{};
+  bool created = false;
+  std::FILE* file = nullptr;
+  ~JpegState() {
+    if (created) jpeg_destroy(reinterpret_cast<j_common_ptr>(&cinfo));
+    if (file != nullptr) std::fclose(file);
+  }
+};
+using JpegFile = JpegState<jpeg_decompress_struct>;
+using JpegOut = JpegState<jpeg_compress_struct>;
 
 enum class Opened { ok, needs_module, failed };
 
 // Reads the header and asks for 8-bit grey or RGB samples.
 Opened read_header(JpegFile* f) {
   if (setjmp(f->jump) != 0) return Opened::failed;
-  f->cinfo.err = jpeg_std_error(&f->err);
-  f->err.error_exit = on_error;
-  f->err.output_message = on_message;
-  f->cinfo.client_data = f;
+  attach(f->cinfo, *f);
   jpeg_create_decompress(&f->cinfo);
   f->created = true;
   jpeg_stdio_src(&f->cinfo, f->file);
@@ -77,6 +92,35 @@ bool read_rows(JpegFile* f, unsigned char* data, std::size_t row_bytes, int widt
     jpeg_read_scanlines(&f->cinfo, &row, 1);
   }
   jpeg_finish_decompress(&f->cinfo);
+  return true;
+}
+
+// Colour (or grey) rows of `bytes`, `channels` samples a pixel, the alpha of 2 or
+// 4 channels left out; false on a libjpeg error.
+bool write_rows(JpegOut* f, int width, int height, int channels, const unsigned char* bytes, int quality) {
+  if (setjmp(f->jump) != 0) return false;
+  attach(f->cinfo, *f);
+  jpeg_create_compress(&f->cinfo);
+  f->created = true;
+  jpeg_stdio_dest(&f->cinfo, f->file);
+  const int colour = channels >= 3 ? 3 : 1;
+  f->cinfo.image_width = JDIMENSION(width);
+  f->cinfo.image_height = JDIMENSION(height);
+  f->cinfo.input_components = colour;
+  f->cinfo.in_color_space = colour == 3 ? JCS_RGB : JCS_GRAYSCALE;
+  jpeg_set_defaults(&f->cinfo);
+  jpeg_set_quality(&f->cinfo, quality, TRUE);
+  jpeg_start_compress(&f->cinfo, TRUE);
+  std::vector<unsigned char> row(std::size_t(width) * std::size_t(colour));
+  while (f->cinfo.next_scanline < f->cinfo.image_height) {
+    const unsigned char* in = bytes + std::size_t(f->cinfo.next_scanline) * std::size_t(width) * std::size_t(channels);
+    for (int x = 0; x < width; ++x)
+      for (int c = 0; c < colour; ++c)
+        row[std::size_t(x * colour + c)] = in[std::size_t(x) * std::size_t(channels) + std::size_t(c)];
+    JSAMPROW r = row.data();
+    jpeg_write_scanlines(&f->cinfo, &r, 1);
+  }
+  jpeg_finish_compress(&f->cinfo);
   return true;
 }
 }  // namespace
@@ -105,6 +149,24 @@ Image read_jpeg(const fs::path& path, const HeaderCheck& check, Header& header) 
   if (!read_rows(f.get(), data.data(), row_bytes, header.width, header.channels, header.height))
     throw Error(where, std::string("cannot decode image: ") + f->error);
   return from_8bit(header.width, header.height, header.channels, data);
+}
+
+void write_jpeg(const fs::path& file, const fs::path& target, int width, int height, int channels,
+                const std::vector<unsigned char>& bytes, int quality) {
+  const Location where{target.string()};
+  if (channels < 1 || channels > 4)
+    throw Error(where, "a JPEG holds 1 to 4 channels (alpha is left out), not " + std::to_string(channels) +
+                           "; write .exr instead");
+  if (width > JPEG_MAX_DIMENSION || height > JPEG_MAX_DIMENSION)
+    throw Error(where, "a JPEG is at most " + std::to_string(JPEG_MAX_DIMENSION) + " px a side; write .png instead");
+  auto f = std::make_unique<JpegOut>();
+  f->file = std::fopen(file.c_str(), "wb");
+  if (f->file == nullptr) throw Error(where, std::string("cannot open for writing: ") + std::strerror(errno));
+  if (!write_rows(f.get(), width, height, channels, bytes.data(), quality > 0 ? quality : kDefaultJpegQuality))
+    throw Error(where, std::string("write failed: ") + f->error);
+  const int closed = std::fclose(f->file);
+  f->file = nullptr;
+  if (closed != 0) throw Error(where, std::string("write failed: ") + std::strerror(errno));
 }
 
 }  // namespace plumage::codec

@@ -39,8 +39,9 @@ float linear_to_srgb(float v);
 // Writes atomically. The extension picks the format: .exr (linear float, as is,
 // ZIP-compressed), .hdr (linear), anything else (.png, .jpg, .tif, ...) is 8-bit
 // with the sRGB transfer curve applied to colour channels (alpha, the last of 2
-// or 4 channels, stays linear), clamped to [0,1]. `jpeg_quality` (1-100; 0: the
-// writer's default) is used by JPEG only.
+// or 4 channels, stays linear), clamped to [0,1]. `jpeg_quality` (1-100; 0: 98)
+// is used by JPEG only; a JPEG (.jpg, .jpeg) holds grey or RGB, so the alpha of
+// 2 or 4 channels is left out of it.
 void write_image(const std::filesystem::path& path, const Image& img, int jpeg_quality = 0);
 // The same, staged in `batch` (atomic_file.h) with a command's other outputs.
 void write_image(FileBatch& batch, const std::filesystem::path& path, const Image& img, int jpeg_quality = 0);
