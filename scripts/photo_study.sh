@@ -34,6 +34,8 @@ for photo in "$photos"/*.jpg "$photos"/*.png; do
     width=$(oiiotool --info "$out/$stem.png" | sed -E 's/.*: +([0-9]+) x .*/\1/')
     resize=(); [ "$width" -gt 1000 ] && resize=(--resize 1000x0)
     oiiotool "$out/$stem.png" "${resize[@]}" --compression jpeg:80 -o "docs/images/study-$stem.jpg"
+  elif command -v convert > /dev/null; then  # ImageMagick
+    convert "$out/$stem.png" -resize '1000x>' -quality 80 "docs/images/study-$stem.jpg"
   else
     cp "$out/$stem.png" "docs/images/study-$stem.png"
   fi

@@ -246,6 +246,66 @@ TEST(AnalysisSheet, ARowOfFeathersOnAStringIsReportedNotMerged) {
   fs::remove_all(dir);
 }
 
+// A row of feathers on a string, each 0.3 of its length wide, packed so close
+// that each vane covers most of the next (the robin sheet's rows of downy tufts, Ba and the grey cluster below
+// MAd): one blob, its tips merged into one edge, but every feather's rachis and
+// edges run across the string. N feathers, `gap` px apart along a string at
+// `row_deg`, each pointing `tilt_deg` off the string's normal.
+// Their lengths vary by up to a fifth, as the tufts on a string do.
+std::vector<SyntheticFeather> packed_row(int n, double gap, double length, double row_deg, double tilt_deg,
+                                         glm::dvec2 centre, unsigned seed) {
+  const glm::dvec2 along(std::cos(row_deg * kPi / 180), std::sin(row_deg * kPi / 180));
+  std::mt19937 rng(seed);
+  std::vector<SyntheticFeather> row(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    SyntheticFeather& f = row[std::size_t(i)];
+    f.dir_deg = row_deg - 90 + tilt_deg;
+    f.length = length * std::uniform_real_distribution<double>(0.8, 1.0)(rng);
+    f.w_left = f.w_right = 0.15 * length;
+    f.spacing = 3;  // barbs about as far apart as the photo's pixels, as on the sheets
+    f.seed = seed + unsigned(i);
+    f.calamus = centre + (i - 0.5 * (n - 1)) * gap * along - 0.45 * f.length * f.dir();
+  }
+  return row;
+}
+
+TEST(AnalysisSheet, ARowOfFeathersWhoseTipsMergeIsReportedByItsLines) {
+  const fs::path dir = sheet_dir("packed");
+  // Sixteen feathers 15 px apart, 48 px wide: no tip stands out, and the rule
+  // of tips says nothing; the lines, across the blob's length, do.
+  const std::vector<SyntheticFeather> row = packed_row(16, 15, 160, 0, -10, {450, 350}, 80);
+  write_image(dir / "row.png", on_one_card(row));
+  const std::string why = refusal(dir / "row.png");
+  EXPECT_NE(why.find("its lines run across it"), std::string::npos) << why;
+  // One of them alone is one feather.
+  write_image(dir / "one.png", row[4].draw());
+  EXPECT_EQ(refusal(dir / "one.png"), "analysed as 1 feather(s)");
+  fs::remove_all(dir);
+}
+
+// Rows of 10-16 feathers 120-180 px long, packed along strings 1.5-2.5 times
+// as long in any direction, their feathers tilted up to 12 degrees, are reported as rows
+// (by their tips or their lines), never analysed as one feather; single
+// feathers are not (FansAreReportedAndSingleFeathersAreNot draws them).
+TEST(AnalysisSheet, PackedRowsInAnyDirectionAreReported) {
+  const fs::path dir = sheet_dir("rows");
+  std::mt19937 rng(9);
+  const auto uniform = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+  for (int k = 0; k < 6; ++k) {
+    const int n = 10 + int(uniform(0, 7));
+    // Longer along the string than across it: 1.5-2.5 times the feathers' length.
+    const double length = uniform(120, 180), gap = uniform(1.5, 2.5) * length / n,
+                 row_deg = uniform(-180, 180), tilt = uniform(-12, 12);
+    write_image(dir / "row.png", on_one_card(packed_row(n, gap, length, row_deg, tilt, {450, 350},
+                                                        unsigned(100 + 20 * k))));
+    const std::string why = refusal(dir / "row.png");
+    EXPECT_NE(why.find("is a row of feathers side by side"), std::string::npos)
+        << n << " feathers " << length << " px long " << gap << " px apart along " << row_deg << " deg, tilted "
+        << tilt << ": " << why;
+  }
+  fs::remove_all(dir);
+}
+
 TEST(AnalysisSheet, AFanOfOverlappingFeathersIsReportedNotMerged) {
   const fs::path dir = sheet_dir("fan");
   // Nine flight feathers spread like a wing, their quills at one wrist and each

@@ -394,27 +394,22 @@ int tips_along_a_side(const cv::Mat& M, int r0, int r1) {
   return std::max(tips(L), tips(R));
 }
 
-// How far the stripes of a fan of overlapping feathers (a spread wing or tail,
-// one blob) spread, in degrees, seen from the point they fan out from; 0 when the
-// region is no fan. Each feather of a fan runs out from the wrist, so its edges,
-// rachis and colour bands are lines through one point; a single feather's lines
-// run along its rachis, or across it (bars), or in a herringbone (barbs), through
-// no one point. The lines: the local orientation of the grey picture (structure
-// tensor, gradients at 1 px, integrated over kIntegration of the widest row, so
-// barbs blur away while a feather's edges stay), at every mask pixel 2 px from
-// the outline, weighted by coherence^2 sqrt(energy). The point: the least-squares
-// intersection of all of them. A fan: the lines point at it (weighted mean
-// cos^2 between a line and its bearing from the point at least kMinAlignment;
-// 0.96 on the goldfinch sheet's spread wing, at most 0.89 on every single
-// feather of the six photos) and their bearings spread over kMinSpread to
-// kMaxSpread degrees (weighted 10 %-90 % range; a point inside a single
-// feather, where lines along its axis point at it too, sees them all round).
-double fan_spread_deg(const cv::Mat& S, const cv::Mat& M, int widest) {
-  constexpr double kIntegration = 0.05, kMinAlignment = 0.92, kMinSpread = 30, kMaxSpread = 180;
+// The coarse lines of a region: the local orientation of the grey picture in the
+// straightened frame (structure tensor, gradients of the picture blurred by
+// `blur` px, integrated over kIntegration of the widest row, so that barbs the
+// photo barely resolves blur away while a feather's edges, rachis and colour
+// bands stay), at every mask pixel 2 px from the outline, weighted by
+// coherence^2 sqrt(energy).
+struct Line {
+  cv::Point2d p, normal;  // where, and across the line (the gradient's direction)
+  double w;
+};
+std::vector<Line> coarse_lines(const cv::Mat& S, const cv::Mat& M, int widest, double blur = 1.0) {
+  constexpr double kIntegration = 0.05;
   cv::Mat g, gx, gy;
   cv::cvtColor(S, g, cv::COLOR_BGR2GRAY);
   g.convertTo(g, CV_32F);
-  cv::GaussianBlur(g, g, cv::Size(0, 0), 1.0);
+  cv::GaussianBlur(g, g, cv::Size(0, 0), blur);
   cv::Sobel(g, gx, CV_32F, 1, 0);
   cv::Sobel(g, gy, CV_32F, 0, 1);
   cv::Mat jxx = gx.mul(gx), jyy = gy.mul(gy), jxy = gx.mul(gy);
@@ -422,12 +417,7 @@ double fan_spread_deg(const cv::Mat& S, const cv::Mat& M, int widest) {
   for (cv::Mat* j : {&jxx, &jyy, &jxy}) cv::GaussianBlur(*j, *j, cv::Size(0, 0), rho);
   cv::Mat inner;
   cv::erode(M, inner, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(5, 5)));
-  struct Line {
-    cv::Point2d p, normal;
-    double w;
-  };
   std::vector<Line> lines;
-  double a11 = 0, a12 = 0, a22 = 0, b1 = 0, b2 = 0;
   for (int y = 0; y < M.rows; ++y)
     for (int x = 0; x < M.cols; ++x) {
       if (!inner.at<uchar>(y, x)) continue;
@@ -435,14 +425,34 @@ double fan_spread_deg(const cv::Mat& S, const cv::Mat& M, int widest) {
       const double energy = xx + yy;
       if (energy <= 1e-6) continue;
       const double coherence = std::sqrt((xx - yy) * (xx - yy) + 4 * xy * xy) / energy;
-      const double w = coherence * coherence * std::sqrt(energy);
       const double a = 0.5 * std::atan2(2 * xy, xx - yy);  // the gradient: across the line
-      const cv::Point2d n(std::cos(a), std::sin(a)), p(x, y);
-      lines.push_back({p, n, w});
-      const double pn = p.dot(n);
-      a11 += w * n.x * n.x, a12 += w * n.x * n.y, a22 += w * n.y * n.y;
-      b1 += w * n.x * pn, b2 += w * n.y * pn;
+      lines.push_back(
+          {cv::Point2d(x, y), cv::Point2d(std::cos(a), std::sin(a)), coherence * coherence * std::sqrt(energy)});
     }
+  return lines;
+}
+
+// How far the stripes of a fan of overlapping feathers (a spread wing or tail,
+// one blob) spread, in degrees, seen from the point they fan out from; 0 when the
+// region is no fan. Each feather of a fan runs out from the wrist, so its edges,
+// rachis and colour bands are lines through one point; a single feather's lines
+// run along its rachis, or across it (bars), or in a herringbone (barbs), through
+// no one point. The lines: coarse_lines at 1 px. The point: the least-squares
+// intersection of all of them. A fan: the lines point at it (weighted mean
+// cos^2 between a line and its bearing from the point at least kMinAlignment;
+// 0.96 on the goldfinch sheet's spread wing, at most 0.89 on every single
+// feather of the six photos) and their bearings spread over kMinSpread to
+// kMaxSpread degrees (weighted 10 %-90 % range; a point inside a single
+// feather, where lines along its axis point at it too, sees them all round).
+double fan_spread_deg(const std::vector<Line>& lines) {
+  constexpr double kMinAlignment = 0.92, kMinSpread = 30, kMaxSpread = 180;
+  double a11 = 0, a12 = 0, a22 = 0, b1 = 0, b2 = 0;
+  for (const Line& l : lines) {
+    const cv::Point2d& n = l.normal;
+    const double pn = l.p.dot(n);
+    a11 += l.w * n.x * n.x, a12 += l.w * n.x * n.y, a22 += l.w * n.y * n.y;
+    b1 += l.w * n.x * pn, b2 += l.w * n.y * pn;
+  }
   const double det = a11 * a22 - a12 * a12;
   if (lines.size() < 50 || det <= 1e-9 * (a11 + a22) * (a11 + a22)) return 0;  // parallel lines: no point
   const cv::Point2d c((a22 * b1 - a12 * b2) / det, (a11 * b2 - a12 * b1) / det);
@@ -472,6 +482,47 @@ double fan_spread_deg(const cv::Mat& S, const cv::Mat& M, int widest) {
   };
   const double spread = (quantile(0.9) - quantile(0.1)) * 180 / kPi;
   return spread >= kMinSpread && spread <= kMaxSpread ? spread : 0;
+}
+
+// How much of a region's coarse lines run along its long axis (the straightened
+// frame's columns): their weighted mean cos^2 to it, 1 where there are none; an
+// isotropic texture gives 1/2. `on`: where to count them (all lines when empty).
+// A feather's edges and rachis run along its length; downy feathers side by
+// side on a string, each plume's edges and rachis across the string, make a
+// region whose lines run across it. Barbs the photo resolves run across too (a
+// drawn feather with barbs 9 px apart at 60 deg to the shaft: 0.25 at 1 px), so
+// the lines are taken again at kAlongBlur of the widest row, where they blur
+// away (0.86); bold bars across one feather do not blur away, but its outline
+// still runs along its length, while a row's rim is its tufts' ragged tips and
+// the string: the rim (mask pixels within kRim of the widest row of the
+// outline) is read on its own. On the six photos, at 1 px, the elongated single
+// feathers read 0.43-0.94 and the robin sheet's rows of downy tufts 0.09-0.27;
+// at kAlongBlur the rows read 0.18-0.27 over the region and 0.22-0.54 on the
+// rim; drawn chevron bars at 75 deg, seven times the barbs' contrast
+// (tests/analysis_barring_test.cpp), 0.25-0.53 over the feather and 0.79-0.86
+// on its rim.
+double share_along_axis(const std::vector<Line>& lines, const cv::Mat& on = cv::Mat()) {
+  double along = 0, total = 0;
+  for (const Line& l : lines) {
+    if (!on.empty() && !on.at<uchar>(int(l.p.y), int(l.p.x))) continue;
+    along += l.w * l.normal.x * l.normal.x, total += l.w;
+  }
+  return total > 0 ? along / total : 1.0;
+}
+
+// Sets shaft.lines_along and shaft.rim_along (Shaft::lines_across): the share
+// at 1 px (`fine`, the fan's lines), and only where that runs across (rows, and
+// feathers whose resolved barbs or bars cross them), the shares over the region
+// and its rim at kAlongBlur of the widest row.
+void lines_along_axis(const cv::Mat& S, const cv::Mat& M, int widest, const std::vector<Line>& fine, Shaft& shaft) {
+  constexpr double kRim = 0.1;
+  shaft.lines_along = share_along_axis(fine);
+  if (shaft.lines_along >= kMaxLinesAlong) return;
+  const std::vector<Line> coarse = coarse_lines(S, M, widest, std::max(1.0, kAlongBlur * widest));
+  cv::Mat dt;
+  cv::distanceTransform(M, dt, cv::DIST_L2, 3);
+  shaft.lines_along = share_along_axis(coarse);
+  shaft.rim_along = share_along_axis(coarse, dt < kRim * widest);
 }
 
 }  // namespace
@@ -510,7 +561,12 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   Shaft shaft;
   shaft.tips = tips_along_a_side(M, r0, r1);
   if (shaft.several_feathers()) return shaft;
-  shaft.fan_deg = fan_spread_deg(S, M, *std::max_element(width.begin(), width.end()));
+  const int widest = *std::max_element(width.begin(), width.end());
+  const std::vector<Line> lines = coarse_lines(S, M, widest);
+  shaft.fan_deg = fan_spread_deg(lines);
+  if (shaft.several_feathers()) return shaft;
+  // The long axis means something only for a region longer than wide.
+  if (r1 - r0 + 1 >= kMinAcrossAspect * widest) lines_along_axis(S, M, widest, lines, shaft);
   if (shaft.several_feathers()) return shaft;
 
   // Ridge strength: how much a pixel differs, in the same direction, from the
@@ -613,6 +669,10 @@ std::string Shaft::several_feathers_why() const {
   if (tips >= kMinRowTips)
     return "is a row of feathers side by side that could not be told apart (" + std::to_string(tips) +
            " tips along one side)";
+  if (lines_across())
+    return "is a row of feathers side by side that could not be told apart (its lines run across it: " +
+           std::to_string(int(std::lround(100 * lines_along))) + " % along its length, " +
+           std::to_string(int(std::lround(100 * rim_along))) + " % along its rim)";
   return {};
 }
 
