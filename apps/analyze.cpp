@@ -1,11 +1,14 @@
 // `plumage analyze`: photo -> layout.json (+ albedo textures, + overlay).
 #include "plumage/generator/analysis/analyze.h"
 
+#include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <optional>
 
 #include "command.h"
 #include "option_checks.h"
+#include "plumage/common/number_text.h"
 
 namespace {
 
@@ -62,10 +65,17 @@ const plumage::cli::Registration reg{
         if (!plumage::cli::global_options().quiet) {
           for (const auto& w : result.warnings) std::cerr << "plumage: warning: " << w << "\n";
           const auto& L = result.layout;
-          std::cerr << "analyze: " << L.feathers.size() << " feather(s), " << L.scale.mm_per_px
-                    << " mm/px (" << plumage::to_string(L.scale.source) << ")";
+          std::cerr << "analyze: " << L.feathers.size() << " feather(s)";
+          if (!L.skipped.empty()) {
+            const auto border = std::count_if(L.skipped.begin(), L.skipped.end(),
+                                              [](const auto& s) { return s.reason == "touches_border"; });
+            std::cerr << ", " << L.skipped.size() << " region(s) skipped (" << L.skipped.size() - border
+                      << " several feathers, " << border << " on the border)";
+          }
+          std::cerr << ", " << plumage::num(L.scale.mm_per_px) << " mm/px ("
+                    << plumage::to_string(L.scale.source) << ")";
           for (const auto& f : L.feathers)
-            std::cerr << "; F" << f.id << " " << f.length_mm << " mm";
+            std::cerr << "; F" << f.id << " " << plumage::num(std::round(10 * f.length_mm) / 10) << " mm";
           std::cerr << " -> " << a->output << "\n";
           if (plumage::cli::global_options().stats) {
             std::cerr << "analyze: stage times:";

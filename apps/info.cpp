@@ -6,11 +6,11 @@
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "command.h"
 #include "plumage/common/bspline.h"
 #include "plumage/common/curve_format.h"
+#include "plumage/common/number_text.h"
 
 namespace plumage::cli {
 namespace {
@@ -58,12 +58,6 @@ Summary summarize(const Feather& f) {
     }
   }
   return s;
-}
-
-std::string num(double v) {
-  std::ostringstream o;
-  o << std::setprecision(6) << v;
-  return o.str();
 }
 
 // The double nearest the float's shortest decimal form: JSON shows 0.42, not 0.41999998688697815.

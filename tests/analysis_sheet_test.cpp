@@ -138,6 +138,24 @@ TEST(AnalysisSheet, SkippedRegionsAreInLayoutJsonThroughTheCli) {
   ASSERT_EQ(L.skipped.size(), 1u);
   EXPECT_EQ(L.skipped[0].reason, "touches_border");
   EXPECT_NE(L.skipped[0].message.find("border"), std::string::npos);
+  // Without -q: the skip and the unknown scale are said once each (the scale
+  // for the photo, not again for every feather, which layout.json still marks),
+  // and the summary counts what was skipped and why.
+  const std::string loud = std::string("\"") + PLUMAGE_CLI + "\" analyze \"" + (dir / "sheet.png").string() +
+                           "\" -o \"" + (dir / "loud.json").string() + "\" 2>\"" + (dir / "err.txt").string() + "\"";
+  ASSERT_EQ(std::system(loud.c_str()), 0);
+  const std::string err = read_file(dir / "err.txt");
+  const auto count = [&](const std::string& what) {
+    std::size_t n = 0;
+    for (auto at = err.find(what); at != std::string::npos; at = err.find(what, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("mm per pixel"), 1u) << err;
+  EXPECT_EQ(count("scale unknown"), 0u) << err;
+  EXPECT_EQ(count("skipped: touches the image border"), 1u) << err;
+  EXPECT_EQ(count("analyze: 1 feather(s), 1 region(s) skipped (0 several feathers, 1 on the border), 0.1 mm/px"), 1u)
+      << err;
+  EXPECT_EQ(L.feathers[0].warnings, std::vector<std::string>{"scale unknown (default used)"});
   // A layout without "skipped" (older files) still reads, and a bad reason is named.
   std::string text = read_file(dir / "out.json");
   const auto k = text.find("\"touches_border\",");

@@ -5,12 +5,12 @@
 #include <functional>
 #include <limits>
 #include <set>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
+#include "plumage/common/number_text.h"
 
 namespace plumage {
 using nlohmann::json;
@@ -37,12 +37,6 @@ FeatherParams default_feather_params() {
 // ---------------------------------------------------------------------------
 // Validation.
 namespace {
-
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 class Checker {
  public:

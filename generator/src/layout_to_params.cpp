@@ -9,18 +9,12 @@
 #include "plumage/common/constants.h"
 #include "plumage/common/error.h"
 #include "plumage/common/median.h"
+#include "plumage/common/number_text.h"
 #include "plumage/generator/builder.h"
 #include "plumage/generator/shaft_pose.h"
 
 namespace plumage {
 namespace {
-
-
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 struct Checker {
   std::string source;

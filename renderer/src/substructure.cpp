@@ -6,6 +6,7 @@
 #include <string>
 
 #include "plumage/common/error.h"
+#include "plumage/common/number_text.h"
 
 namespace plumage {
 namespace {
@@ -17,12 +18,6 @@ glm::vec3 rotate(const glm::vec3& v, const glm::vec3& k, float a) {
   return v * c + glm::cross(k, v) * s + k * (glm::dot(k, v) * (1.0f - c));
 }
 
-std::string num(double v) {
-  std::string s = std::to_string(v);
-  s.erase(s.find_last_not_of('0') + 1);
-  if (!s.empty() && s.back() == '.') s.pop_back();
-  return s;
-}
 }  // namespace
 
 const char* to_string(Structure s) {

@@ -12,6 +12,7 @@
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
+#include "plumage/common/number_text.h"
 #include "plumage/generator/layout_to_params.h"
 #include "steps.h"
 
@@ -20,6 +21,9 @@ namespace fs = std::filesystem;
 using namespace analysis;
 
 namespace {
+
+// A feather's warning in layout.json when no scale was found or given.
+const std::string kScaleUnknown = "scale unknown (default used)";
 
 glm::dmat3x2 inverse_affine(const glm::dmat3x2& A) {
   const glm::dmat2 L(A[0], A[1]);
@@ -156,7 +160,7 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
     } else {
       L.scale = {opt.default_mm_per_px, ScaleSource::Default, 0.1, 0.0, 0.0};
       out.warnings.push_back("no grid or ruler found and no --mm-per-px given: assuming " +
-                             std::to_string(opt.default_mm_per_px) + " mm per pixel");
+                             num(opt.default_mm_per_px) + " mm per pixel, so every length is a guess");
     }
   }
   const double mm_per_work_px = L.scale.mm_per_px / ds;
@@ -290,7 +294,8 @@ void analyze_feather(const Photo& photo, const Segmentation& seg, const Componen
   f.touches_border = comp.touches_border;
   if (comp.touches_border)
     f.warnings.push_back("touches the image border; the vane may be cut off");
-  if (L.scale.source == ScaleSource::Default) f.warnings.push_back("scale unknown (default used)");
+  // In layout.json each feather says so; the command's warnings say it once, for the photo.
+  if (L.scale.source == ScaleSource::Default) f.warnings.push_back(kScaleUnknown);
 
   const AlbedoResult al =
       extract_albedo(photo.bgr, comp, inverse_affine(f_from_work), f.shaft_mm, f.shaft_width_mm,
@@ -309,7 +314,7 @@ void analyze_feather(const Photo& photo, const Segmentation& seg, const Componen
     for (int x = 0; x < comp.mask.cols; ++x) mask.at(x, y)[0] = comp.mask.at<uchar>(y, x) / 255.0f;
   out.masks.push_back(std::move(mask));
   for (const auto& w : f.warnings)
-    out.warnings.push_back("feather " + std::to_string(k) + ": " + w);
+    if (w != kScaleUnknown) out.warnings.push_back("feather " + std::to_string(k) + ": " + w);
 
   drawn.push_back({k, comp.contour, shaft_px, vm, f.length_mm, comp.touches_border});
   L.feathers.push_back(std::move(f));
