@@ -264,6 +264,33 @@ TEST(AnalysisSynthetic, ShaftStaysOnTheRachisBesideAStrongerLine) {
 // also where the photo is analysed downscaled; a layout in OpenCV's pixel-centre
 // coordinates is off by half a pixel in each axis (one pixel between the two) and
 // sets the renders of photo-to-feather that far off the photo.
+TEST(AnalysisSynthetic, AFeatherAsWideAsItIsLongIsTracedAlongItsLines) {
+  // A short feather with wide vanes and barbs close to its shaft (a round downy
+  // plume): its mask's principal axis lies across it, but its lines run along
+  // it, and the shaft is traced along them, from quill to tip.
+  for (const double dir_deg : {-62.0, 15.0, 100.0}) {
+    SCOPED_TRACE("feather at " + std::to_string(dir_deg) + " deg");
+    SyntheticFeather F;
+    F.dir_deg = dir_deg;
+    F.length = 240;
+    F.w_left = F.w_right = 125;
+    F.theta_deg = 10;
+    F.spacing = 20;
+    F.barb_contrast = 0.6;
+    F.calamus = glm::dvec2(450, 350) - 0.5 * F.length * F.dir();
+    const fs::path dir = temp_dir("round");
+    write_image(dir / "feather.png", F.draw());
+    const PhotoAnalysis A = analyze_photo(dir / "feather.png", AnalyzeOptions{});
+    ASSERT_EQ(A.layout.feathers.size(), 1u);
+    const FeatherLayout& f = A.layout.feathers[0];
+    const glm::dvec2 c = apply(f.image_from_feather, f.shaft_mm.eval(0.0)),
+                     tip = apply(f.image_from_feather, f.shaft_mm.eval(1.0));
+    EXPECT_GT(glm::dot(glm::normalize(tip - c), F.dir()), std::cos(15.0 * 3.14159265 / 180.0))
+        << "shaft from " << c.x << "," << c.y << " to " << tip.x << "," << tip.y;
+    EXPECT_LT(glm::length(tip - F.tip()), 0.2 * F.length);
+  }
+}
+
 TEST(AnalysisSynthetic, MirroredPhotoGivesTheMirroredLayout) {
   SyntheticFeather F;
   const Image img = F.draw();

@@ -510,6 +510,31 @@ double share_along_axis(const std::vector<Line>& lines, const cv::Mat& on = cv::
   return total > 0 ? along / total : 1.0;
 }
 
+// Which way a region's lines run, in the straightened frame (x along its
+// columns, y along its rows; a unit vector, its sign arbitrary), from the
+// weighted mean of their doubled angles, and how strongly: the length of that
+// mean over the total weight (0 isotropic, 1 every line one way). A region
+// about as wide as it is long is traced across its principal axis when its
+// lines run one way by at least kMinLineStrength and more than kMaxAxisOffDeg
+// off that axis: of the three such regions analysed on the six photos,
+// blue-jay F25 (a white downy plume, 0.51, 72 deg off: its shaft ran across it)
+// and goldfinch F17 (a fragment of downy tufts, 0.60, 88 deg) turn and robin F12
+// (0.47, 14 deg) does not; a drawn round feather with streaky barbs reads
+// 0.17-0.19, its dark outline on white card weighing in all round
+// (tests/analysis_test.cpp).
+constexpr double kMinLineStrength = 0.15, kMaxAxisOffDeg = 45;
+cv::Point2d line_direction(const std::vector<Line>& lines, double& strength) {
+  double cx = 0, sx = 0, total = 0;
+  for (const Line& l : lines) {
+    // The line runs across its normal: (-n.y, n.x); doubled, (cos 2a, sin 2a) of that.
+    const double dx = -l.normal.y, dy = l.normal.x;
+    cx += l.w * (dx * dx - dy * dy), sx += l.w * 2 * dx * dy, total += l.w;
+  }
+  strength = total > 0 ? std::hypot(cx, sx) / total : 0;
+  const double a = 0.5 * std::atan2(sx, cx);
+  return {std::cos(a), std::sin(a)};
+}
+
 // Sets shaft.lines_along and shaft.rim_along (Shaft::lines_across): the share
 // at 1 px (`fine`, the fan's lines), and only where that runs across (rows, and
 // feathers whose resolved barbs or bars cross them), the shares over the region
@@ -525,11 +550,9 @@ void lines_along_axis(const cv::Mat& S, const cv::Mat& M, int widest, const std:
   shaft.rim_along = share_along_axis(coarse, dt < kRim * widest);
 }
 
-}  // namespace
-
-Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
-  cv::Point2d c, e;
-  principal_axis(f, c, e);
+// The shaft traced in the frame straightened along `e` through `c`; `may_turn`:
+// whether a region about as wide as it is long may be traced across `e` instead.
+Shaft trace_along(const cv::Mat& bgr, const Component& f, const cv::Point2d& c, const cv::Point2d& e, bool may_turn) {
   const cv::Point2d n(-e.y, e.x);
   double smin = 1e300, smax = -1e300, tmin = 1e300, tmax = -1e300;
   for (const cv::Point& p : f.contour) {
@@ -563,6 +586,16 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   if (shaft.several_feathers()) return shaft;
   const int widest = *std::max_element(width.begin(), width.end());
   const std::vector<Line> lines = coarse_lines(S, M, widest);
+  // A region about as wide as it is long (under kMinAcrossAspect) has no long
+  // axis to speak of, and its principal axis may lie across the feather (a
+  // round downy plume): when its lines run across that axis, it is traced
+  // across it.
+  if (may_turn && r1 - r0 + 1 < kMinAcrossAspect * widest) {
+    double strength = 0;
+    const cv::Point2d d = line_direction(lines, strength);
+    if (strength >= kMinLineStrength && std::fabs(d.y) < std::cos(kMaxAxisOffDeg * kPi / 180))
+      return trace_along(bgr, f, c, n, false);
+  }
   shaft.fan_deg = fan_spread_deg(lines);
   if (shaft.several_feathers()) return shaft;
   // The long axis means something only for a region longer than wide.
@@ -657,6 +690,13 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   const double contrast = on_path / rows_path.size() / std::max(mean_ridge, 1e-6);
   shaft.confidence = std::clamp((contrast - 1.0) / 3.0, 0.0, 1.0);
   return shaft;
+}
+}  // namespace
+
+Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
+  cv::Point2d c, e;
+  principal_axis(f, c, e);
+  return trace_along(bgr, f, c, e, true);
 }
 
 std::string Shaft::several_feathers_why() const {
