@@ -22,9 +22,6 @@ using namespace analysis;
 
 namespace {
 
-// A feather's warning in layout.json when no scale was found or given.
-const std::string kScaleUnknown = "scale unknown (default used)";
-
 glm::dmat3x2 inverse_affine(const glm::dmat3x2& A) {
   const glm::dmat2 L(A[0], A[1]);
   const glm::dmat2 Li = glm::inverse(L);
@@ -294,8 +291,6 @@ void analyze_feather(const Photo& photo, const Segmentation& seg, const Componen
   f.touches_border = comp.touches_border;
   if (comp.touches_border)
     f.warnings.push_back("touches the image border; the vane may be cut off");
-  // In layout.json each feather says so; the command's warnings say it once, for the photo.
-  if (L.scale.source == ScaleSource::Default) f.warnings.push_back(kScaleUnknown);
 
   const AlbedoResult al =
       extract_albedo(photo.bgr, comp, inverse_affine(f_from_work), f.shaft_mm, f.shaft_width_mm,
@@ -313,8 +308,9 @@ void analyze_feather(const Photo& photo, const Segmentation& seg, const Componen
   for (int y = 0; y < comp.mask.rows; ++y)
     for (int x = 0; x < comp.mask.cols; ++x) mask.at(x, y)[0] = comp.mask.at<uchar>(y, x) / 255.0f;
   out.masks.push_back(std::move(mask));
-  for (const auto& w : f.warnings)
-    if (w != kScaleUnknown) out.warnings.push_back("feather " + std::to_string(k) + ": " + w);
+  for (const auto& w : f.warnings) out.warnings.push_back("feather " + std::to_string(k) + ": " + w);
+  // In layout.json each feather says so; the command's warnings say it once, for the photo.
+  if (L.scale.source == ScaleSource::Default) f.warnings.push_back("scale unknown (default used)");
 
   drawn.push_back({k, comp.contour, shaft_px, vm, f.length_mm, comp.touches_border});
   L.feathers.push_back(std::move(f));

@@ -510,29 +510,26 @@ double share_along_axis(const std::vector<Line>& lines, const cv::Mat& on = cv::
   return total > 0 ? along / total : 1.0;
 }
 
-// Which way a region's lines run, in the straightened frame (x along its
-// columns, y along its rows; a unit vector, its sign arbitrary), from the
-// weighted mean of their doubled angles, and how strongly: the length of that
-// mean over the total weight (0 isotropic, 1 every line one way). A region
-// about as wide as it is long is traced across its principal axis when its
-// lines run one way by at least kMinLineStrength and more than kMaxAxisOffDeg
-// off that axis: of the three such regions analysed on the six photos,
-// blue-jay F25 (a white downy plume, 0.51, 72 deg off: its shaft ran across it)
-// and goldfinch F17 (a fragment of downy tufts, 0.60, 88 deg) turn and robin F12
-// (0.47, 14 deg) does not; a drawn round feather with streaky barbs reads
-// 0.17-0.19, its dark outline on white card weighing in all round
-// (tests/analysis_test.cpp).
-constexpr double kMinLineStrength = 0.15, kMaxAxisOffDeg = 45;
-cv::Point2d line_direction(const std::vector<Line>& lines, double& strength) {
+// The weighted mean of a region's lines' doubled angles, measured from the
+// straightened frame's rows (x) and divided by the total weight: its length
+// says how strongly the lines run one way (0 isotropic, 1 every line one way),
+// and its x is positive when that way is more than 45 deg off the long axis (y).
+// A region about as wide as it is long is traced across its principal axis
+// when its lines run across that axis by at least kMinLineStrength: of the three
+// such regions analysed on the six photos, blue-jay F25 (a white downy plume,
+// 0.51, 72 deg off: its shaft ran across it) and goldfinch F17 (a fragment of
+// downy tufts, 0.60, 88 deg) turn and robin F12 (0.47, 14 deg) does not; a drawn
+// round feather with streaky barbs reads 0.17-0.19, its dark outline on white
+// card weighing in all round (tests/analysis_test.cpp).
+constexpr double kMinLineStrength = 0.15;
+cv::Point2d doubled_angle_mean(const std::vector<Line>& lines) {
   double cx = 0, sx = 0, total = 0;
   for (const Line& l : lines) {
     // The line runs across its normal: (-n.y, n.x); doubled, (cos 2a, sin 2a) of that.
     const double dx = -l.normal.y, dy = l.normal.x;
     cx += l.w * (dx * dx - dy * dy), sx += l.w * 2 * dx * dy, total += l.w;
   }
-  strength = total > 0 ? std::hypot(cx, sx) / total : 0;
-  const double a = 0.5 * std::atan2(sx, cx);
-  return {std::cos(a), std::sin(a)};
+  return total > 0 ? cv::Point2d(cx, sx) / total : cv::Point2d(0, 0);
 }
 
 // Sets shaft.lines_along and shaft.rim_along (Shaft::lines_across): the share
@@ -586,20 +583,17 @@ Shaft trace_along(const cv::Mat& bgr, const Component& f, const cv::Point2d& c, 
   if (shaft.several_feathers()) return shaft;
   const int widest = *std::max_element(width.begin(), width.end());
   const std::vector<Line> lines = coarse_lines(S, M, widest);
-  // A region about as wide as it is long (under kMinAcrossAspect) has no long
-  // axis to speak of, and its principal axis may lie across the feather (a
-  // round downy plume): when its lines run across that axis, it is traced
-  // across it.
-  if (may_turn && r1 - r0 + 1 < kMinAcrossAspect * widest) {
-    double strength = 0;
-    const cv::Point2d d = line_direction(lines, strength);
-    if (strength >= kMinLineStrength && std::fabs(d.y) < std::cos(kMaxAxisOffDeg * kPi / 180))
-      return trace_along(bgr, f, c, n, false);
+  // Only a region longer than wide has a long axis to speak of. The principal
+  // axis of one about as wide as it is long may lie across the feather (a round
+  // downy plume): when its lines run across that axis, it is traced across it.
+  const bool elongated = r1 - r0 + 1 >= kMinAcrossAspect * widest;
+  if (may_turn && !elongated) {
+    const cv::Point2d m = doubled_angle_mean(lines);
+    if (m.x > 0 && std::hypot(m.x, m.y) >= kMinLineStrength) return trace_along(bgr, f, c, n, false);
   }
   shaft.fan_deg = fan_spread_deg(lines);
   if (shaft.several_feathers()) return shaft;
-  // The long axis means something only for a region longer than wide.
-  if (r1 - r0 + 1 >= kMinAcrossAspect * widest) lines_along_axis(S, M, widest, lines, shaft);
+  if (elongated) lines_along_axis(S, M, widest, lines, shaft);
   if (shaft.several_feathers()) return shaft;
 
   // Ridge strength: how much a pixel differs, in the same direction, from the
