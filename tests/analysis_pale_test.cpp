@@ -267,3 +267,67 @@ TEST(AnalysisPale, SpottedFeatherIsOneFeather) {
   EXPECT_TRUE(A.layout.skipped.empty());
   fs::remove_all(dir);
 }
+
+// Faint feathers (grey down on a grey card, the blue-jay sheet's two rows of
+// grey downy feathers): a feather a little darker than the card whose colour
+// clears the threshold only in patches. The card's frame is striped, as a
+// scan's edge is, so the border's spread sets the threshold and the hysteresis
+// level (4 sigma, above half the threshold). A row of three such plumes on one
+// glue band, each with two patches over the threshold: six faint pieces that
+// the fluff joins below it, reported as one region of faint feathers, not six
+// invented ones. A lone plume with one patch is a feather of its own, and so is
+// the dark feather beside them.
+TEST(AnalysisPale, FaintPiecesJoinedByTheirFluffAreReportedNotInvented) {
+  const fs::path dir = pale_dir("faint");
+  const int w = 900, h = 600;
+  const float card = 0.70f;
+  UprightFeather dark;
+  dark.cx = 120, dark.calamus_y = 560;
+  // Levels below the card (8-bit): the fluff, its patches.
+  const float fluff = 50.f / 255, patch = 90.f / 255;
+  auto in_ellipse = [](double x, double y, double cx, double cy, double a, double b) {
+    const double u = (x - cx) / a, v = (y - cy) / b;
+    return u * u + v * v <= 1;
+  };
+  auto plume = [=](double cx, std::vector<double> patches) -> Paint {
+    return [=](double x, double y, glm::vec3& c) {
+      if (!in_ellipse(x, y, cx, 330, 40, 120)) return false;
+      c = glm::vec3(card - fluff);
+      for (double py : patches)
+        if (in_ellipse(x, y, cx, py, 16, 32)) c = glm::vec3(card - patch);
+      return true;
+    };
+  };
+  const Paint band = [=](double x, double y, glm::vec3& c) {
+    if (x < 380 || x > 620 || y < 430 || y > 455) return false;
+    c = glm::vec3(card - fluff);
+    return true;
+  };
+  // A scan's edge: the frame a sixth of a percent of the photo deep, striped in
+  // thirds 12 levels lighter, the card's own, and 12 levels darker.
+  const Paint frame = [=](double x, double y, glm::vec3& c) {
+    const int ix = int(x), iy = int(y);
+    if (ix >= 6 && iy >= 6 && ix < w - 6 && iy < h - 6) return false;
+    const int third = ((ix + iy) / 4) % 3;
+    c += glm::vec3(float(third - 1) * 12.f / 255);
+    return true;
+  };
+  write_image(dir / "faint.png", draw_card(w, h, card, 0.f, 0.01f,
+                                           {paint_of(dark), plume(400, {275, 385}), plume(500, {275, 385}),
+                                            plume(600, {275, 385}), band, plume(790, {330}), frame}));
+  const PhotoAnalysis A = analyze_photo(dir / "faint.png", AnalyzeOptions{});
+  ASSERT_EQ(A.layout.skipped.size(), 1u);
+  const auto& S = A.layout.skipped[0];
+  EXPECT_EQ(S.reason, "unseparated");
+  EXPECT_NE(S.message.find("faint"), std::string::npos) << S.message;
+  // The region holds the whole row: its box spans the three plumes.
+  EXPECT_LT(S.bbox_px[0], 400 - 30);
+  EXPECT_GT(S.bbox_px[0] + S.bbox_px[2], 600 + 30);
+  ASSERT_EQ(A.layout.feathers.size(), 2u);
+  EXPECT_NE(nearest(A.layout, {dark.cx, dark.calamus_y - 0.5 * dark.length}), nullptr);
+  for (const FeatherLayout& f : A.layout.feathers) {
+    const glm::dvec2 mid = 0.5 * (shaft_end(f, 0) + shaft_end(f, 1));
+    EXPECT_TRUE(std::fabs(mid.x - dark.cx) < 50 || std::fabs(mid.x - 790) < 50) << mid.x;
+  }
+  fs::remove_all(dir);
+}

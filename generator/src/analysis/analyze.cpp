@@ -200,6 +200,12 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
            "analyse it anyway");
       continue;
     }
+    if (comp.faint_pieces > 0) {
+      skip_several(comp, k, "is faint feathers whose colour clears the threshold in " +
+                                std::to_string(comp.faint_pieces) +
+                                " patches joined by fluff below it, so they could not be told apart");
+      continue;
+    }
     if (comp.unseparated) {
       std::ostringstream what;
       what << "is several feathers that touch or overlap and could not be told apart ("

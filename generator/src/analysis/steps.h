@@ -46,6 +46,9 @@ struct Component {
   // > 0: this feather was cut out of a blob of that many touching feathers
   // (segmentation.cpp, separate); its vane may be clipped where they overlapped.
   int separated_from = 0;
+  // > 0: faint pieces (patches of grey down above the threshold) that join
+  // below it, reported as several feathers (segmentation.cpp, join_faint_pieces).
+  int faint_pieces = 0;
 };
 struct Segmentation {
   bool dark_background = false;
