@@ -26,7 +26,7 @@ cases=(
   "spoonbill-wing-sheet.png 5 wing feather on black, grid"
   "blue-jay-feather-sheet.jpg 9 top tail feather, lying across"
   "blue-jay-feather-sheet.jpg 12 small body feather"
-  "blue-jay-feather-sheet.jpg 37 tail feather, upright"
+  "blue-jay-feather-sheet.jpg 40 tail feather, upright"
   "european-goldfinch-feather-sheet.jpg 19 single feather at the right of the bottom row"
   "european-robin-feather-sheet.jpg 14 upright body feather"
   "european-robin-feather-sheet.jpg 41 upright body feather"

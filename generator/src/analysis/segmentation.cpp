@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <opencv2/imgproc.hpp>
 
+#include "plumage/common/constants.h"
 #include "plumage/common/median.h"
 #include "steps.h"
 
@@ -267,6 +268,139 @@ std::vector<Component> separate(const Component& blob, Cores& cores, const cv::S
   return pieces;
 }
 
+// Faint feathers side by side, as glued in a row on a band (the blue-jay
+// sheet's grey downy feathers): each plume is denser than the fluff where two
+// plumes meet. The colour distance summed across the region, along each of
+// kRowAngles directions, is a profile with a peak per plume where the direction
+// runs along the row; the direction whose smoothed profile varies most (total
+// variation over its maximum) is taken. Peaks standing out by kRowProminence of
+// the profile's maximum are plumes, and the region is cut at the lowest point
+// between two neighbours, straight across the row. `own`: the region's pixels
+// above the level that joined it (its filled holes weigh nothing). Smoothing: kRowSmooth of the
+// square root of the region's area. On that sheet's two groups the four
+// plumes stand out by 0.22-0.95 at 0.75x, 1x and 1.5x and turned a quarter;
+// each drawn plume alone is one peak. Returns the pieces when there are two or
+// more, each a feather in size (`min_area`, kMinPiece of the largest) and
+// standing across the row, at least kMinPlumeAspect times as long along the cut
+// as it is wide across the row (those plumes 2.07-3.20; a plume cut from its
+// own downy base, where the direction found runs along one feather, 0.73-1.17;
+// tufts on a string 1.36-2.02, a row of them 0.73-2.13); otherwise nothing.
+constexpr int kRowAngles = 60;
+constexpr double kRowSmooth = 0.02, kRowProminence = 0.15, kMinPlumeAspect = 1.8, kBaseSide = 0.08;
+std::vector<Component> split_faint_row(const Component& region, const cv::Mat& own, const cv::Mat& dist,
+                                       const cv::Size& image, double min_area) {
+  struct Px {
+    int x, y;
+    double w;  // 0 in the region's holes (filled, but card)
+  };
+  std::vector<Px> px;
+  for (int y = 0; y < region.mask.rows; ++y) {
+    const uchar* m = region.mask.ptr<uchar>(y);
+    const uchar* o = own.ptr<uchar>(y);
+    const uchar* d = dist.ptr<uchar>(y + region.bbox.y) + region.bbox.x;
+    for (int x = 0; x < region.mask.cols; ++x)
+      if (m[x]) px.push_back({x, y, o[x] ? double(d[x]) : 0.0});
+  }
+  if (px.empty()) return {};
+  const double sigma = std::max(1.5, kRowSmooth * std::sqrt(double(cv::countNonZero(own))));
+  const int reach = int(std::ceil(3 * sigma));
+  std::vector<double> kernel(std::size_t(2 * reach + 1));
+  for (int k = -reach; k <= reach; ++k) kernel[std::size_t(k + reach)] = std::exp(-0.5 * k * k / (sigma * sigma));
+  struct Across {
+    double ux = 1, uy = 0, s0 = 0, variation = -1;
+    std::vector<double> profile;
+  } best;
+  for (int a = 0; a < kRowAngles; ++a) {
+    const double angle = kPi * a / kRowAngles, ux = std::cos(angle), uy = std::sin(angle);
+    double s0 = 1e300, s1 = -1e300;
+    for (const Px& p : px) {
+      const double s = p.x * ux + p.y * uy;
+      s0 = std::min(s0, s), s1 = std::max(s1, s);
+    }
+    std::vector<double> raw(std::size_t(std::lround(s1 - s0)) + 1, 0.0), smooth(raw.size(), 0.0);
+    for (const Px& p : px) raw[std::size_t(std::lround(p.x * ux + p.y * uy - s0))] += p.w;
+    for (std::size_t i = 0; i < raw.size(); ++i)
+      for (int k = -reach; k <= reach; ++k) {
+        const long j = long(i) + k;
+        if (j >= 0 && j < long(raw.size())) smooth[i] += kernel[std::size_t(k + reach)] * raw[std::size_t(j)];
+      }
+    const double most = *std::max_element(smooth.begin(), smooth.end());
+    if (most <= 0) continue;
+    double variation = 0;
+    for (std::size_t i = 1; i < smooth.size(); ++i) variation += std::fabs(smooth[i] - smooth[i - 1]);
+    variation /= most;
+    if (variation > best.variation) best = {ux, uy, s0, variation, std::move(smooth)};
+  }
+  if (best.profile.empty()) return {};
+  const std::vector<double>& v = best.profile;
+  const double most = *std::max_element(v.begin(), v.end());
+  std::vector<int> plumes;
+  for (const Peak& p : profile_peaks(v))
+    if (p.prominence >= kRowProminence * most) plumes.push_back(p.at);
+  if (plumes.size() < 2) return {};
+  std::vector<double> cuts;  // profile positions between neighbouring plumes
+  for (std::size_t i = 0; i + 1 < plumes.size(); ++i)
+    cuts.push_back(double(std::min_element(v.begin() + plumes[i], v.begin() + plumes[i + 1]) - v.begin()));
+  const std::size_t n = plumes.size();
+  std::vector<cv::Mat> masks(n);
+  for (cv::Mat& m : masks) m = cv::Mat::zeros(region.mask.size(), CV_8U);
+  // Each piece's extent across the row (along u) and along its feathers.
+  std::vector<double> lo_u(n, 1e300), hi_u(n, -1e300), lo_v(n, 1e300), hi_v(n, -1e300);
+  for (const Px& p : px) {
+    const double s = p.x * best.ux + p.y * best.uy - best.s0, t = -p.x * best.uy + p.y * best.ux;
+    const auto piece = std::size_t(std::upper_bound(cuts.begin(), cuts.end(), s) - cuts.begin());
+    masks[piece].at<uchar>(p.y, p.x) = 255;
+    lo_u[piece] = std::min(lo_u[piece], s), hi_u[piece] = std::max(hi_u[piece], s);
+    lo_v[piece] = std::min(lo_v[piece], t), hi_v[piece] = std::max(hi_v[piece], t);
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    if (hi_v[i] - lo_v[i] < kMinPlumeAspect * (hi_u[i] - lo_u[i] + 1)) return {};
+  // Feathers in a row join at their bases (a glue band, downy bases): along the
+  // cuts, the region's own pixels lie toward that end. When their mean lies
+  // kBaseSide of the region's extent along the feathers off its middle, each
+  // piece's base is its end on that side (the blue-jay sheet's two groups:
+  // 0.20-0.23 and 0.11-0.13 toward their bands at 0.75x, 1x and 1.5x and turned
+  // a quarter).
+  double t_lo = 1e300, t_hi = -1e300, t_sum = 0;
+  int t_count = 0;
+  for (const Px& p : px) {
+    const double s = p.x * best.ux + p.y * best.uy - best.s0, t = -p.x * best.uy + p.y * best.ux;
+    t_lo = std::min(t_lo, t), t_hi = std::max(t_hi, t);
+    if (p.w > 0)
+      for (double cut : cuts)
+        if (std::fabs(s - cut) <= 1.0) t_sum += t, ++t_count;
+  }
+  int base_side = 0;  // +1: toward larger t, -1: toward smaller t
+  if (t_count > 0) {
+    const double off = t_sum / t_count - 0.5 * (t_lo + t_hi);
+    if (std::fabs(off) >= kBaseSide * (t_hi - t_lo)) base_side = off > 0 ? 1 : -1;
+  }
+  std::vector<Component> pieces;
+  double largest = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const cv::Mat& m = masks[i];
+    const cv::Rect box = cv::boundingRect(m);
+    if (box.empty()) return {};
+    Component c;
+    c.bbox = box + region.bbox.tl();
+    c.contour = largest_contour(m(box), c.bbox.tl());
+    if (c.contour.empty()) return {};
+    c.mask = filled(c.contour, c.bbox);
+    c.area = cv::contourArea(c.contour);
+    measure_shape(c, image);
+    c.separated_from = int(n);
+    if (base_side != 0) {
+      const double s = 0.5 * (lo_u[i] + hi_u[i]) + best.s0, t = base_side > 0 ? hi_v[i] : lo_v[i];
+      c.base_px = cv::Point2d(s * best.ux - t * best.uy, s * best.uy + t * best.ux) + cv::Point2d(region.bbox.tl());
+    }
+    largest = std::max(largest, c.area);
+    pieces.push_back(std::move(c));
+  }
+  for (const Component& c : pieces)
+    if (c.area < std::max(min_area, kMinPiece * largest)) return {};
+  return pieces;
+}
+
 // Faint feathers (grey down on a grey card) clear the colour threshold only in
 // patches: their outline there is drawn by the fluff's grain, not by the
 // feather's edge, and one feather falls into pieces or two feathers' patches
@@ -280,7 +414,7 @@ std::vector<Component> separate(const Component& blob, Cores& cores, const cv::S
 // one invented from a patch.
 constexpr double kFaintP95 = 1.4, kFaintLevel = 0.5;
 void join_faint_pieces(std::vector<Component>& feathers, const cv::Mat& dist, double threshold,
-                       const cv::Mat& open_k, const cv::Size& image) {
+                       const cv::Mat& open_k, const cv::Size& image, double min_area) {
   std::vector<char> faint(feathers.size(), 0);
   int n_faint = 0;
   for (std::size_t i = 0; i < feathers.size(); ++i) {
@@ -334,11 +468,17 @@ void join_faint_pieces(std::vector<Component>& feathers, const cv::Mat& dist, do
     Component c;
     c.bbox = cv::Rect(stats.at<int>(int(j), cv::CC_STAT_LEFT), stats.at<int>(int(j), cv::CC_STAT_TOP),
                       stats.at<int>(int(j), cv::CC_STAT_WIDTH), stats.at<int>(int(j), cv::CC_STAT_HEIGHT));
-    c.contour = largest_contour(labels(c.bbox) == int(j), c.bbox.tl());
+    const cv::Mat own = labels(c.bbox) == int(j);
+    c.contour = largest_contour(own, c.bbox.tl());
     if (c.contour.empty()) continue;
     c.mask = filled(c.contour, c.bbox);
     c.area = cv::contourArea(c.contour);
     measure_shape(c, image);
+    std::vector<Component> row = split_faint_row(c, own, dist, image, min_area);
+    if (!row.empty()) {
+      for (Component& piece : row) kept.push_back(std::move(piece));
+      continue;
+    }
     c.faint_pieces = faint_in[j];
     c.unseparated = true;
     kept.push_back(std::move(c));
@@ -864,7 +1004,7 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
     comp.unseparated = comp.cores > 1 || comp.solidity < kMinSolidity;
     seg.feathers.push_back(std::move(comp));
   }
-  join_faint_pieces(seg.feathers, dist, seg.threshold, open_k, bgr.size());
+  join_faint_pieces(seg.feathers, dist, seg.threshold, open_k, bgr.size(), min_area);
   std::sort(seg.feathers.begin(), seg.feathers.end(), [](const Component& a, const Component& b) {
     return a.bbox.x + a.bbox.width / 2 < b.bbox.x + b.bbox.width / 2;
   });

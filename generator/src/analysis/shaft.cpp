@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <opencv2/imgproc.hpp>
 
 #include "plumage/common/constants.h"
@@ -247,13 +248,15 @@ void straighten_faded_tip(std::vector<cv::Point2d>& path, const cv::Mat& ridge, 
 }
 
 // Which end of the rows r0..r1 of the straightened feather (per-row mask widths
-// `width`, line strength `ridge`) is the calamus.
+// `width`, line strength `ridge`) is the calamus; `base_at_bottom`, when known,
+// says it.
 struct CalamusEnd {
   bool at_bottom = false;  // at row r1
   bool known = false;      // false: the ends are alike by every cue (then the chevron's sign decides)
   int run = 0;             // rows under 30 % of the widest at the calamus end (the bare quill)
 };
-CalamusEnd calamus_end(const std::vector<int>& width, const cv::Mat& ridge, int r0, int r1) {
+CalamusEnd calamus_end(const std::vector<int>& width, const cv::Mat& ridge, int r0, int r1,
+                       std::optional<bool> base_at_bottom) {
   // The calamus end is the one with the longer run of rows where only the
   // bare quill is left (width well under the vane's). A rounded tip (a white
   // tip on a mid-grey card, where the quill's end may hide under a glue dot)
@@ -275,6 +278,12 @@ CalamusEnd calamus_end(const std::vector<int>& width, const cv::Mat& ridge, int 
   const bool top_is_quill = quill_top >= kMinQuillRows && 2 * quill_top >= run_top;
   const bool bottom_is_quill = quill_bottom >= kMinQuillRows && 2 * quill_bottom >= run_bottom;
   CalamusEnd end;
+  // Where the segmentation knows the base (a row of feathers joined there), it decides.
+  if (base_at_bottom) {
+    end.at_bottom = *base_at_bottom, end.known = true;
+    end.run = end.at_bottom ? run_bottom : run_top;
+    return end;
+  }
   end.at_bottom = top_is_quill != bottom_is_quill ? bottom_is_quill : run_bottom >= run_top;
   end.known = top_is_quill != bottom_is_quill || run_top != run_bottom;
   // When neither end is a quill and both runs are a few rows (a glue dot or
@@ -382,13 +391,7 @@ int tips_along_a_side(const cv::Mat& M, int r0, int r1) {
   const double widest = std::max(*std::max_element(L.begin(), L.end()), *std::max_element(R.begin(), R.end()));
   auto tips = [&](const std::vector<double>& v) {
     int count = 0;
-    for (int i = 1; i + 1 < n; ++i) {
-      if (!(v[i] >= v[i - 1] && v[i] > v[i + 1])) continue;
-      double low_before = v[i], low_after = v[i];
-      for (int k = i - 1; k >= 0 && v[k] <= v[i]; --k) low_before = std::min(low_before, v[k]);
-      for (int k = i + 1; k < n && v[k] <= v[i]; ++k) low_after = std::min(low_after, v[k]);
-      count += v[i] - std::max(low_before, low_after) >= kTipProminence * widest;
-    }
+    for (const Peak& p : profile_peaks(v)) count += p.prominence >= kTipProminence * widest;
     return count;
   };
   return std::max(tips(L), tips(R));
@@ -622,7 +625,12 @@ Shaft trace_along(const cv::Mat& bgr, const Component& f, const cv::Point2d& c, 
       }
     }
 
-  const CalamusEnd calamus = calamus_end(width, ridge, r0, r1);
+  std::optional<bool> base_at_bottom;
+  if (f.base_px) {
+    const double row = (*f.base_px - o).dot(e);
+    base_at_bottom = std::fabs(row - r1) < std::fabs(row - r0);
+  }
+  const CalamusEnd calamus = calamus_end(width, ridge, r0, r1, base_at_bottom);
   const bool calamus_at_bottom = calamus.at_bottom;
   shaft.quills = quills_at_calamus(M, width, r0, r1, calamus_at_bottom);
   if (shaft.several_feathers()) return shaft;

@@ -3,6 +3,7 @@
 // All pixel figures here are in working pixels (the photo after any downscale).
 #include <filesystem>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,16 @@ Photo load_photo(const std::filesystem::path& path, double max_megapixels,
 // Width and height from a PNG or JPEG header without decoding; {0,0} if unknown.
 cv::Size peek_image_size(const std::filesystem::path& path);
 
+// peaks.cpp -------------------------------------------------------------------
+// A local maximum of a profile (v[i] >= v[i-1] and v[i] > v[i+1]) and its
+// prominence: how far it stands above the higher of the lowest points reached on
+// either side before the profile rises above it again (the ends count as such).
+struct Peak {
+  int at;
+  double prominence;
+};
+std::vector<Peak> profile_peaks(const std::vector<double>& v);
+
 // segmentation.cpp ------------------------------------------------------------
 struct Component {
   cv::Rect bbox;                   // in the working image
@@ -49,6 +60,11 @@ struct Component {
   // > 0: faint pieces (patches of grey down above the threshold) that join
   // below it, reported as several feathers (segmentation.cpp, join_faint_pieces).
   int faint_pieces = 0;
+  // Where this feather's base lies (working image coordinates), when the cut
+  // that made it says so: feathers in a row join at their bases
+  // (segmentation.cpp, split_faint_row). The shaft tracer then takes the end
+  // nearer it for the calamus.
+  std::optional<cv::Point2d> base_px;
 };
 struct Segmentation {
   bool dark_background = false;

@@ -1,0 +1,21 @@
+// Peaks of a 1-D profile and how far each stands out (its prominence).
+#include <algorithm>
+
+#include "steps.h"
+
+namespace plumage::analysis {
+
+std::vector<Peak> profile_peaks(const std::vector<double>& v) {
+  std::vector<Peak> peaks;
+  const int n = int(v.size());
+  for (int i = 1; i + 1 < n; ++i) {
+    if (!(v[i] >= v[i - 1] && v[i] > v[i + 1])) continue;
+    double low_before = v[i], low_after = v[i];
+    for (int k = i - 1; k >= 0 && v[k] <= v[i]; --k) low_before = std::min(low_before, v[k]);
+    for (int k = i + 1; k < n && v[k] <= v[i]; ++k) low_after = std::min(low_after, v[k]);
+    peaks.push_back({i, v[i] - std::max(low_before, low_after)});
+  }
+  return peaks;
+}
+
+}  // namespace plumage::analysis
