@@ -276,10 +276,10 @@ std::vector<Component> separate(const Component& blob, Cores& cores, const cv::S
 // variation over its maximum) is taken. Peaks standing out by kRowProminence of
 // the profile's maximum are plumes, and the region is cut at the lowest point
 // between two neighbours, straight across the row. `own`: the region's pixels
-// above the level that joined it (its filled holes weigh nothing). Smoothing: kRowSmooth of the
-// square root of the region's area. On that sheet's two groups the four
-// plumes stand out by 0.22-0.95 at 0.75x, 1x and 1.5x and turned a quarter;
-// each drawn plume alone is one peak. Returns the pieces when there are two or
+// above the level that joined it (its filled holes weigh nothing). Smoothing:
+// kRowSmooth of the square root of the region's area. On that sheet the plumes
+// stand out by 0.22-0.95 (at 0.75x, 1x and 1.5x, and turned a quarter); each
+// drawn plume alone is one peak. Returns the pieces when there are two or
 // more, each a feather in size (`min_area`, kMinPiece of the largest) and
 // standing across the row, at least kMinPlumeAspect times as long along the cut
 // as it is wide across the row (those plumes 2.07-3.20; a plume cut from its
