@@ -348,3 +348,74 @@ TEST(AnalysisPale, FaintFeathersInARowAreToldApartAndTheRestReported) {
   if (HasFailure()) std::cerr << "photo kept: " << (dir / "faint.png") << "\n";
   else fs::remove_all(dir);
 }
+
+// Rows of faint plumes in any direction: 2-5 plumes of random length, width and
+// gap, each in two patches, on a band at their bases, the row turned by a random
+// angle, on the striped-frame card of the test above. Every plume is one
+// feather, read from the band: its calamus near its base, its tip near its tip.
+TEST(AnalysisPale, FaintRowsInAnyDirectionAreToldApart) {
+  const fs::path dir = pale_dir("faint_rows");
+  const int w = 900, h = 900, frame_px = std::min(w, h) / 100;
+  const float card = 0.90f, fluff = 45.f / 255, patch = 80.f / 255, darker = 110.f / 255;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(0, 1);
+  for (int row = 0; row < 6; ++row) {
+    const int n = 2 + int(U(rng) * 4);
+    const double L = 180 + 80 * U(rng), hw = 18 + 10 * U(rng), spacing = 2 * hw + 16 * U(rng);
+    const double angle = 2 * std::numbers::pi * U(rng);
+    const glm::dvec2 d(std::cos(angle), std::sin(angle)), r(-d.y, d.x), C(450, 430);
+    std::vector<glm::dvec2> base(n), tip(n);
+    for (int k = 0; k < n; ++k) {
+      base[k] = C + (k - 0.5 * (n - 1)) * spacing * r - 0.5 * L * d;
+      tip[k] = base[k] + L * d;
+    }
+    auto in_ellipse = [](double a, double b, double ra, double rb) { return (a / ra) * (a / ra) + (b / rb) * (b / rb) <= 1; };
+    const Paint plumes = [=](double x, double y, glm::vec3& c) {
+      const glm::dvec2 p(x, y);
+      bool inside = false;
+      for (int k = 0; k < n; ++k) {
+        const glm::dvec2 m = 0.5 * (base[k] + tip[k]);
+        const double a = glm::dot(p - m, r), b = glm::dot(p - m, d);
+        if (!in_ellipse(a, b, hw, 0.5 * L)) continue;
+        inside = true;
+        c = glm::vec3(card - fluff);
+        if (in_ellipse(a, b - 0.2 * L, 0.65 * hw, 0.13 * L) || in_ellipse(a, b + 0.2 * L, 0.65 * hw, 0.13 * L))
+          c = glm::vec3(card - patch);
+        return true;
+      }
+      // The band: from beyond the first plume to beyond the last, at their bases.
+      const double a = glm::dot(p - C, r), b = glm::dot(p - base[0], d);
+      if (std::fabs(a) <= 0.5 * (n - 1) * spacing + hw + 10 && b >= -5 && b <= 20) {
+        c = glm::vec3(card - fluff);
+        return true;
+      }
+      return inside;
+    };
+    UprightFeather dark;
+    dark.cx = 80, dark.calamus_y = 860, dark.length = 280, dark.half = 40, dark.taper = 100;
+    dark.dark = glm::vec3(card - darker), dark.rachis = glm::vec3(card - 1.5f * darker);
+    const Paint frame = [=](double x, double y, glm::vec3& c) {
+      const int ix = int(x), iy = int(y);
+      if (ix >= frame_px && iy >= frame_px && ix < w - frame_px && iy < h - frame_px) return false;
+      c += glm::vec3(float(((ix + iy) / 4) % 3 - 1) * 20.f / 255);
+      return true;
+    };
+    const fs::path photo = dir / ("row" + std::to_string(row) + ".png");
+    write_image(photo, draw_card(w, h, card, 0.f, 0.01f, {paint_of(dark), plumes, frame}, unsigned(row + 1)));
+    const PhotoAnalysis A = analyze_photo(photo, AnalyzeOptions{});
+    const std::string what = "row " + std::to_string(row) + ": " + std::to_string(n) + " plumes, length " +
+                             std::to_string(int(L)) + ", turned " + std::to_string(int(angle * 180 / std::numbers::pi)) +
+                             " deg";
+    EXPECT_TRUE(A.layout.skipped.empty()) << what;
+    EXPECT_EQ(A.layout.feathers.size(), std::size_t(n + 1)) << what;
+    for (int k = 0; k < n; ++k) {
+      const FeatherLayout* F = nearest(A.layout, 0.5 * (base[k] + tip[k]));
+      ASSERT_NE(F, nullptr) << what;
+      EXPECT_LT(glm::length(shaft_end(*F, 0) - base[k]), 0.25 * L) << what << ", plume " << k << ": calamus";
+      EXPECT_LT(glm::length(shaft_end(*F, 1) - tip[k]), 0.2 * L) << what << ", plume " << k << ": tip";
+    }
+    if (!HasFailure()) fs::remove(photo);
+  }
+  if (HasFailure()) std::cerr << "photos kept in " << dir << "\n";
+  else fs::remove_all(dir);
+}

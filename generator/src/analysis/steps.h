@@ -35,7 +35,9 @@ cv::Size peek_image_size(const std::filesystem::path& path);
 // peaks.cpp -------------------------------------------------------------------
 // A local maximum of a profile (v[i] >= v[i-1] and v[i] > v[i+1]) and its
 // prominence: how far it stands above the higher of the lowest points reached on
-// either side before the profile rises above it again (the ends count as such).
+// either side before the profile rises above it again (the ends count as such;
+// going back, a maximum of equal height counts as higher, so tied maxima on a
+// rippled plateau make one peak).
 struct Peak {
   int at;
   double prominence;
