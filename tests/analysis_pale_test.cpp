@@ -126,6 +126,70 @@ const FeatherLayout* nearest(const Layout& L, glm::dvec2 at) {
   return best;
 }
 
+
+// Faint down on a light card (the AnalysisPale.Faint* tests): levels below the
+// card (8-bit) of the fluff, of its patches over the threshold, and of a
+// darker feather that sets the threshold beside them.
+constexpr float kFaintCard = 0.90f, kFluff = 45.f / 255, kPatch = 80.f / 255, kDarker = 110.f / 255;
+
+// An UprightFeather in the darker feather's colours.
+UprightFeather darker_feather() {
+  UprightFeather f;
+  f.dark = glm::vec3(kFaintCard - kDarker), f.rachis = glm::vec3(kFaintCard - 1.5f * kDarker);
+  return f;
+}
+
+bool in_ellipse(double a, double b, double ra, double rb) { return (a / ra) * (a / ra) + (b / rb) * (b / rb) <= 1; }
+
+// A faint plume: an ellipse from `base` along the unit `dir` for `length`,
+// `half` wide, in fluff, with patches (ellipses 0.65 half by 0.13 length) at
+// the given fractions of the length from its middle toward its tip.
+struct FaintPlume {
+  glm::dvec2 base, dir;
+  double length, half;
+  std::vector<double> patches;
+};
+
+// Faint plumes, and with `band` the glue band they stand on: from beyond the
+// first base to beyond the last, 5 px below the bases to 20 px above them.
+Paint faint_plumes(const std::vector<FaintPlume>& plumes, bool band) {
+  return [=](double x, double y, glm::vec3& c) {
+    const glm::dvec2 p(x, y);
+    for (const FaintPlume& f : plumes) {
+      const glm::dvec2 across(-f.dir.y, f.dir.x), middle = f.base + 0.5 * f.length * f.dir;
+      const double a = glm::dot(p - middle, across), b = glm::dot(p - middle, f.dir);
+      if (!in_ellipse(a, b, f.half, 0.5 * f.length)) continue;
+      c = glm::vec3(kFaintCard - kFluff);
+      for (double at : f.patches)
+        if (in_ellipse(a, b - at * f.length, 0.65 * f.half, 0.13 * f.length)) c = glm::vec3(kFaintCard - kPatch);
+      return true;
+    }
+    if (!band || plumes.empty()) return false;
+    const FaintPlume &first = plumes.front(), &last = plumes.back();
+    const glm::dvec2 across(-first.dir.y, first.dir.x), middle = 0.5 * (first.base + last.base);
+    const double a = glm::dot(p - middle, across), b = glm::dot(p - first.base, first.dir);
+    const double reach = 0.5 * glm::length(last.base - first.base) + first.half + 10;
+    if (std::fabs(a) > reach || b < -5 || b > 20) return false;
+    c = glm::vec3(kFaintCard - kFluff);
+    return true;
+  };
+}
+
+// A scan's edge: the frame a percent of the photo's short side deep (where the
+// border's colour and spread are taken), striped in thirds 20 levels lighter,
+// the card's own, and 20 levels darker: after the photo's blur a spread of
+// about 16 levels, so the hysteresis level (4 sigma, about 63) is above the
+// fluff's 45 and half the threshold (about 33) below it.
+Paint striped_frame(int w, int h) {
+  const int deep = std::min(w, h) / 100;
+  return [=](double x, double y, glm::vec3& c) {
+    const int ix = int(x), iy = int(y);
+    if (ix >= deep && iy >= deep && ix < w - deep && iy < h - deep) return false;
+    c += glm::vec3(float(((ix + iy) / 4) % 3 - 1) * 20.f / 255);
+    return true;
+  };
+}
+
 }  // namespace
 
 // A dark feather with a white tip that tapers to a point, on a mid-grey card
@@ -281,49 +345,19 @@ TEST(AnalysisPale, SpottedFeatherIsOneFeather) {
 TEST(AnalysisPale, FaintFeathersInARowAreToldApartAndTheRestReported) {
   const fs::path dir = pale_dir("faint");
   const int w = 900, h = 600;
-  const float card = 0.90f;
-  // Levels below the card (8-bit): the fluff, its patches, and a darker feather.
-  const float fluff = 45.f / 255, patch = 80.f / 255, darker = 110.f / 255;
-  UprightFeather dark;
+  UprightFeather dark = darker_feather();
   dark.cx = 120, dark.calamus_y = 560;
-  dark.dark = glm::vec3(card - darker), dark.rachis = glm::vec3(card - 1.5f * darker);
   const double top = 210, base = 450;  // each plume's ends
-  auto in_ellipse = [](double x, double y, double cx, double cy, double a, double b) {
-    const double u = (x - cx) / a, v = (y - cy) / b;
-    return u * u + v * v <= 1;
-  };
-  auto plume = [=](double cx, std::vector<double> patches) -> Paint {
-    return [=](double x, double y, glm::vec3& c) {
-      if (!in_ellipse(x, y, cx, 0.5 * (top + base), 24, 0.5 * (base - top))) return false;
-      c = glm::vec3(card - fluff);
-      for (double py : patches)
-        if (in_ellipse(x, y, cx, py, 16, 32)) c = glm::vec3(card - patch);
-      return true;
-    };
-  };
-  const Paint band = [=](double x, double y, glm::vec3& c) {
-    if (x < 280 || x > 580 || y < base - 20 || y > base + 5) return false;
-    c = glm::vec3(card - fluff);
-    return true;
-  };
-  // A scan's edge: the frame 6 px deep (a percent of the photo's height,
-  // where the border's colour and spread are taken), striped in thirds 20
-  // levels lighter, the card's own, and 20 levels darker: after the photo's
-  // blur a spread of about 16 levels, so the hysteresis level (4 sigma, about
-  // 63) is above the fluff's 45 and half the threshold (about 33) below it.
-  const Paint frame = [=](double x, double y, glm::vec3& c) {
-    const int ix = int(x), iy = int(y);
-    if (ix >= 6 && iy >= 6 && ix < w - 6 && iy < h - 6) return false;
-    const int third = ((ix + iy) / 4) % 3;
-    c += glm::vec3(float(third - 1) * 20.f / 255);
-    return true;
+  auto plume = [=](double x, std::vector<double> patches) {
+    return FaintPlume{{x, base}, {0, -1}, base - top, 24, std::move(patches)};
   };
   const std::vector<double> row{330, 430, 530};
-  const std::vector<double> two{275, 385};
+  const std::vector<double> two{0.23, -0.23};  // 55 px above and below the middle
   write_image(dir / "faint.png",
-              draw_card(w, h, card, 0.f, 0.01f,
-                        {paint_of(dark), plume(row[0], two), plume(row[1], two), plume(row[2], two), band,
-                         plume(680, {330}), plume(800, two), frame}));
+              draw_card(w, h, kFaintCard, 0.f, 0.01f,
+                        {paint_of(dark), faint_plumes({plume(row[0], two), plume(row[1], two), plume(row[2], two)}, true),
+                         faint_plumes({plume(680, {0})}, false), faint_plumes({plume(800, two)}, false),
+                         striped_frame(w, h)}));
   const PhotoAnalysis A = analyze_photo(dir / "faint.png", AnalyzeOptions{});
   // The lone plume in two patches, reported.
   ASSERT_EQ(A.layout.skipped.size(), 1u);
@@ -355,8 +389,9 @@ TEST(AnalysisPale, FaintFeathersInARowAreToldApartAndTheRestReported) {
 // feather, read from the band: its calamus near its base, its tip near its tip.
 TEST(AnalysisPale, FaintRowsInAnyDirectionAreToldApart) {
   const fs::path dir = pale_dir("faint_rows");
-  const int w = 900, h = 900, frame_px = std::min(w, h) / 100;
-  const float card = 0.90f, fluff = 45.f / 255, patch = 80.f / 255, darker = 110.f / 255;
+  const int w = 900, h = 900;
+  UprightFeather dark = darker_feather();
+  dark.cx = 80, dark.calamus_y = 860, dark.length = 280, dark.half = 40, dark.taper = 100;
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> U(0, 1);
   for (int row = 0; row < 6; ++row) {
@@ -365,43 +400,15 @@ TEST(AnalysisPale, FaintRowsInAnyDirectionAreToldApart) {
     const double angle = 2 * std::numbers::pi * U(rng);
     const glm::dvec2 d(std::cos(angle), std::sin(angle)), r(-d.y, d.x), C(450, 430);
     std::vector<glm::dvec2> base(n), tip(n);
+    std::vector<FaintPlume> plumes;
     for (int k = 0; k < n; ++k) {
       base[k] = C + (k - 0.5 * (n - 1)) * spacing * r - 0.5 * L * d;
       tip[k] = base[k] + L * d;
+      plumes.push_back({base[k], d, L, hw, {-0.2, 0.2}});
     }
-    auto in_ellipse = [](double a, double b, double ra, double rb) { return (a / ra) * (a / ra) + (b / rb) * (b / rb) <= 1; };
-    const Paint plumes = [=](double x, double y, glm::vec3& c) {
-      const glm::dvec2 p(x, y);
-      bool inside = false;
-      for (int k = 0; k < n; ++k) {
-        const glm::dvec2 m = 0.5 * (base[k] + tip[k]);
-        const double a = glm::dot(p - m, r), b = glm::dot(p - m, d);
-        if (!in_ellipse(a, b, hw, 0.5 * L)) continue;
-        inside = true;
-        c = glm::vec3(card - fluff);
-        if (in_ellipse(a, b - 0.2 * L, 0.65 * hw, 0.13 * L) || in_ellipse(a, b + 0.2 * L, 0.65 * hw, 0.13 * L))
-          c = glm::vec3(card - patch);
-        return true;
-      }
-      // The band: from beyond the first plume to beyond the last, at their bases.
-      const double a = glm::dot(p - C, r), b = glm::dot(p - base[0], d);
-      if (std::fabs(a) <= 0.5 * (n - 1) * spacing + hw + 10 && b >= -5 && b <= 20) {
-        c = glm::vec3(card - fluff);
-        return true;
-      }
-      return inside;
-    };
-    UprightFeather dark;
-    dark.cx = 80, dark.calamus_y = 860, dark.length = 280, dark.half = 40, dark.taper = 100;
-    dark.dark = glm::vec3(card - darker), dark.rachis = glm::vec3(card - 1.5f * darker);
-    const Paint frame = [=](double x, double y, glm::vec3& c) {
-      const int ix = int(x), iy = int(y);
-      if (ix >= frame_px && iy >= frame_px && ix < w - frame_px && iy < h - frame_px) return false;
-      c += glm::vec3(float(((ix + iy) / 4) % 3 - 1) * 20.f / 255);
-      return true;
-    };
     const fs::path photo = dir / ("row" + std::to_string(row) + ".png");
-    write_image(photo, draw_card(w, h, card, 0.f, 0.01f, {paint_of(dark), plumes, frame}, unsigned(row + 1)));
+    write_image(photo, draw_card(w, h, kFaintCard, 0.f, 0.01f, {paint_of(dark), faint_plumes(plumes, true), striped_frame(w, h)},
+                                 unsigned(row + 1)));
     const PhotoAnalysis A = analyze_photo(photo, AnalyzeOptions{});
     const std::string what = "row " + std::to_string(row) + ": " + std::to_string(n) + " plumes, length " +
                              std::to_string(int(L)) + ", turned " + std::to_string(int(angle * 180 / std::numbers::pi)) +

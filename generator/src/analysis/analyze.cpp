@@ -200,17 +200,15 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
            "analyse it anyway");
       continue;
     }
-    if (comp.faint_pieces > 0) {
-      skip_several(comp, k, "is faint feathers whose colour clears the threshold in " +
-                                std::to_string(comp.faint_pieces) +
-                                " patches joined by fluff below it, so they could not be told apart");
-      continue;
-    }
     if (comp.unseparated) {
       std::ostringstream what;
-      what << "is several feathers that touch or overlap and could not be told apart ("
-           << (comp.cores > 1 ? std::to_string(comp.cores) + " cores" : "fills " +
-               std::to_string(int(std::lround(100 * comp.solidity))) + " % of its hull") << ")";
+      if (comp.faint_pieces > 0)
+        what << "is faint feathers whose colour clears the threshold in " << comp.faint_pieces
+             << " patches joined by fluff below it, so they could not be told apart";
+      else
+        what << "is several feathers that touch or overlap and could not be told apart ("
+             << (comp.cores > 1 ? std::to_string(comp.cores) + " cores" : "fills " +
+                 std::to_string(int(std::lround(100 * comp.solidity))) + " % of its hull") << ")";
       skip_several(comp, k, what.str());
       continue;
     }

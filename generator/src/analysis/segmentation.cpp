@@ -344,32 +344,29 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
   const std::size_t n = plumes.size();
   std::vector<cv::Mat> masks(n);
   for (cv::Mat& m : masks) m = cv::Mat::zeros(region.mask.size(), CV_8U);
-  // Each piece's extent across the row (along u) and along its feathers.
-  std::vector<double> lo_u(n, 1e300), hi_u(n, -1e300), lo_v(n, 1e300), hi_v(n, -1e300);
-  for (const Px& p : px) {
-    const double s = p.x * best.ux + p.y * best.uy - best.s0, t = -p.x * best.uy + p.y * best.ux;
-    const auto piece = std::size_t(std::upper_bound(cuts.begin(), cuts.end(), s) - cuts.begin());
-    masks[piece].at<uchar>(p.y, p.x) = 255;
-    lo_u[piece] = std::min(lo_u[piece], s), hi_u[piece] = std::max(hi_u[piece], s);
-    lo_v[piece] = std::min(lo_v[piece], t), hi_v[piece] = std::max(hi_v[piece], t);
-  }
-  for (std::size_t i = 0; i < n; ++i)
-    if (hi_v[i] - lo_v[i] < kMinPlumeAspect * (hi_u[i] - lo_u[i] + 1)) return {};
+  // Each piece's extent across the row (along u) and along its feathers (t).
   // Feathers in a row join at their bases (a glue band, downy bases): along the
   // cuts, the region's own pixels lie toward that end. When their mean lies
   // kBaseSide of the region's extent along the feathers off its middle, each
   // piece's base is its end on that side (the blue-jay sheet's two groups:
   // 0.20-0.23 and 0.11-0.13 toward their bands at 0.75x, 1x and 1.5x and turned
   // a quarter).
-  double t_lo = 1e300, t_hi = -1e300, t_sum = 0;
+  std::vector<double> lo_u(n, 1e300), hi_u(n, -1e300), lo_v(n, 1e300), hi_v(n, -1e300);
+  double t_sum = 0;  // over the region's own pixels within 1 px of a cut
   int t_count = 0;
   for (const Px& p : px) {
     const double s = p.x * best.ux + p.y * best.uy - best.s0, t = -p.x * best.uy + p.y * best.ux;
-    t_lo = std::min(t_lo, t), t_hi = std::max(t_hi, t);
+    const auto piece = std::size_t(std::upper_bound(cuts.begin(), cuts.end(), s) - cuts.begin());
+    masks[piece].at<uchar>(p.y, p.x) = 255;
+    lo_u[piece] = std::min(lo_u[piece], s), hi_u[piece] = std::max(hi_u[piece], s);
+    lo_v[piece] = std::min(lo_v[piece], t), hi_v[piece] = std::max(hi_v[piece], t);
     if (p.w > 0)
       for (double cut : cuts)
         if (std::fabs(s - cut) <= 1.0) t_sum += t, ++t_count;
   }
+  for (std::size_t i = 0; i < n; ++i)
+    if (hi_v[i] - lo_v[i] < kMinPlumeAspect * (hi_u[i] - lo_u[i] + 1)) return {};
+  const double t_lo = *std::min_element(lo_v.begin(), lo_v.end()), t_hi = *std::max_element(hi_v.begin(), hi_v.end());
   int base_side = 0;  // +1: toward larger t, -1: toward smaller t
   if (t_count > 0) {
     const double off = t_sum / t_count - 0.5 * (t_lo + t_hi);
@@ -408,13 +405,14 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
 // four). A region is faint when the 95th percentile of its colour distance is
 // under kFaintP95 times the threshold (grey downy feathers 1.11-1.24 on that
 // sheet, its other feathers 1.7 and over). Where two or more faint regions and
-// no other lie in one connected region above kFaintLevel of the threshold
-// (their fluff joins them), the pieces cannot be told from feathers: that
-// region is reported as several feathers (`faint_pieces`), never analysed as
-// one invented from a patch.
-constexpr double kFaintP95 = 1.4, kFaintLevel = 0.5;
+// no other lie mostly in one connected region above `half_level` (half the
+// threshold: the hysteresis level before the border's noise raises it; their
+// fluff joins them there), that region takes their place: cut along its row
+// into feathers (split_faint_row), or else reported as several feathers
+// (`faint_pieces`), never analysed as one invented from a patch.
+constexpr double kFaintP95 = 1.4;
 void join_faint_pieces(std::vector<Component>& feathers, const cv::Mat& dist, double threshold,
-                       const cv::Mat& open_k, const cv::Size& image, double min_area) {
+                       double half_level, const cv::Mat& open_k, const cv::Size& image, double min_area) {
   std::vector<char> faint(feathers.size(), 0);
   int n_faint = 0;
   for (std::size_t i = 0; i < feathers.size(); ++i) {
@@ -435,7 +433,7 @@ void join_faint_pieces(std::vector<Component>& feathers, const cv::Mat& dist, do
   }
   if (n_faint < 2) return;
   cv::Mat low, labels, stats, centroids;
-  cv::threshold(dist, low, std::max(kFaintLevel * threshold, 12.0), 255, cv::THRESH_BINARY);
+  cv::threshold(dist, low, half_level, 255, cv::THRESH_BINARY);
   cv::morphologyEx(low, low, cv::MORPH_OPEN, open_k);
   const int n = cv::connectedComponentsWithStats(low, labels, stats, centroids, 8, CV_32S);
   // Each region's joining region: the one most of its pixels lie in.
@@ -839,8 +837,10 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   cv::morphologyEx(bin, bin, cv::MORPH_OPEN, open_k);
 
   // Hysteresis: darker quill ends and downy bases, below Otsu's threshold but
-  // joined to a feather, belong to it.
-  const double low_threshold = std::max({0.5 * seg.threshold, 12.0, 4.0 * sigma});
+  // joined to a feather, belong to it. The level is half the threshold, raised
+  // to the border's noise (4 sigma) where that is higher.
+  const double half_level = std::max(0.5 * seg.threshold, 12.0);
+  const double low_threshold = std::max(half_level, 4.0 * sigma);
   cv::Mat low;
   cv::threshold(dist, low, low_threshold, 255, cv::THRESH_BINARY);
   cv::morphologyEx(low, low, cv::MORPH_OPEN, open_k);
@@ -1004,7 +1004,7 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
     comp.unseparated = comp.cores > 1 || comp.solidity < kMinSolidity;
     seg.feathers.push_back(std::move(comp));
   }
-  join_faint_pieces(seg.feathers, dist, seg.threshold, open_k, bgr.size(), min_area);
+  join_faint_pieces(seg.feathers, dist, seg.threshold, half_level, open_k, bgr.size(), min_area);
   std::sort(seg.feathers.begin(), seg.feathers.end(), [](const Component& a, const Component& b) {
     return a.bbox.x + a.bbox.width / 2 < b.bbox.x + b.bbox.width / 2;
   });
