@@ -307,6 +307,13 @@ std::string farfield_key(const FarfieldGeometry& g, const HairParams* m, const F
                   double(m->beta_m), double(m->beta_n), double(m->alpha_deg), double(m->eta), double(m->sigma_a.x),
                   double(m->sigma_a.y), double(m->sigma_a.z));
     key += buf;
+    if (has_medulla(*m)) {  // the key of a clear fibre stays as it was, so its cached tables stay valid
+      std::snprintf(buf, sizeof buf, "; medulla %.9g; medulla_sigma_s %.9g,%.9g,%.9g; medulla_sigma_a %.9g,%.9g,%.9g",
+                    double(m->medulla_ratio), double(m->medulla_sigma_s.x), double(m->medulla_sigma_s.y),
+                    double(m->medulla_sigma_s.z), double(m->medulla_sigma_a.x), double(m->medulla_sigma_a.y),
+                    double(m->medulla_sigma_a.z));
+      key += buf;
+    }
   } else {
     key += "; transmittance only";
   }

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "hair_terms.h"
+#include "medulla_terms.h"
 #include "plumage/common/error.h"
 
 namespace plumage {
@@ -19,7 +20,7 @@ namespace plumage {
 namespace {
 
 
-constexpr int kLobes = 4;            // R, TT, TRT and the residual p >= 3
+constexpr int kChiangLobes = 4;      // R, TT, TRT and the residual p >= 3 (then the medulla's)
 constexpr double kBetaMin = 1e-3;    // below this the lobes are narrower than float directions resolve
 constexpr double kMaxAlphaDeg = 45;  // 4 alpha (TRT) stays within a half turn
 constexpr float kMinAlbedo = 1e-4f;  // ln(0) would make sigma_a infinite
@@ -68,6 +69,17 @@ void validate(const HairParams& p, std::string_view what) {
     if (!(p.sigma_a[c] >= 0.0f && std::isfinite(p.sigma_a[c])))
       fail(what, "sigma_a[" + std::to_string(c) + "]", p.sigma_a[c],
            "is not a finite absorption >= 0; use 0 for white, a few units for dark fibres");
+  if (!(p.medulla_ratio >= 0.0f && p.medulla_ratio < 1.0f))
+    fail(what, "medulla_ratio", p.medulla_ratio,
+         "is outside [0, 1); the medulla's radius is a fraction of the fibre's (0 for none, about 0.7 in white barbs)");
+  for (int c = 0; c < 3; ++c) {
+    if (!(p.medulla_sigma_s[c] >= 0.0f && std::isfinite(p.medulla_sigma_s[c])))
+      fail(what, "medulla_sigma_s[" + std::to_string(c) + "]", p.medulla_sigma_s[c],
+           "is not a finite scattering coefficient >= 0; use 0 for a clear core, tens for a white one");
+    if (!(p.medulla_sigma_a[c] >= 0.0f && std::isfinite(p.medulla_sigma_a[c])))
+      fail(what, "medulla_sigma_a[" + std::to_string(c) + "]", p.medulla_sigma_a[c],
+           "is not a finite absorption >= 0; use 0 for a core that only scatters");
+  }
 }
 
 // Chiang et al. 2016 §4.1: linear combination of the eumelanin and pheomelanin
@@ -175,6 +187,7 @@ HairBCSDF::HairBCSDF(const HairParams& params, float h) : p_(params) {
   std::copy(last.cos_shift, last.cos_shift + 3, cos_shift_);
   gamma_o_ = std::asin(double(h_));
   cos_gamma_o_ = std::sqrt(std::max(0.0, 1.0 - double(h_) * h_));
+  if (has_medulla(p_)) exit_ = medulla::exit_shape(p_.eta, p_.medulla_ratio);
 }
 
 HairBCSDF::HairBCSDF(const HairParams& params, float h, const glm::vec3& wo) : HairBCSDF(params, h) {
@@ -205,22 +218,59 @@ HairBCSDF::Attenuation HairBCSDF::attenuation(double sin_o, double cos_o) const 
   const double cos_gamma_t = std::sqrt(std::max(0.0, 1.0 - sin_gamma_t * sin_gamma_t));
   const double sin_t = sin_o / eta;
   const double cos_t = std::sqrt(std::max(0.0, 1.0 - sin_t * sin_t));
-  const double chord = 2.0 * cos_gamma_t / std::max(cos_t, 1e-12);
-  const glm::dvec3 T(std::exp(-double(p_.sigma_a.x) * chord), std::exp(-double(p_.sigma_a.y) * chord),
-                     std::exp(-double(p_.sigma_a.z) * chord));
   const double F = hair::fresnel_dielectric(cos_o * cos_gamma_o_, eta);
-
-  at.A[0] = glm::dvec3(F);
-  at.A[1] = (1.0 - F) * (1.0 - F) * T;
-  at.A[2] = at.A[1] * F * T;
-  for (int c = 0; c < 3; ++c) {
-    const double loss = 1.0 - F * T[c];
-    at.A[3][c] = loss > 0.0 ? at.A[2][c] * F * T[c] / loss : 0.0;
+  if (exit_) {
+    medulla_attenuation(at, F, sin_gamma_t, cos_gamma_t, cos_t);
+  } else {
+    const double chord = 2.0 * cos_gamma_t / std::max(cos_t, 1e-12);
+    const glm::dvec3 T(std::exp(-double(p_.sigma_a.x) * chord), std::exp(-double(p_.sigma_a.y) * chord),
+                       std::exp(-double(p_.sigma_a.z) * chord));
+    at.A[0] = glm::dvec3(F);
+    at.A[1] = (1.0 - F) * (1.0 - F) * T;
+    at.A[2] = at.A[1] * F * T;
+    for (int c = 0; c < 3; ++c) {
+      const double loss = 1.0 - F * T[c];
+      at.A[3][c] = loss > 0.0 ? at.A[2][c] * F * T[c] / loss : 0.0;
+    }
+    at.A[4] = glm::dvec3(0.0);
   }
   double total = 0.0;
   for (int p = 0; p < kLobes; ++p) total += mean(at.A[p]);
   for (int p = 0; p < kLobes; ++p) at.weight[p] = total > 0.0 ? mean(at.A[p]) / total : 0.0;
   return at;
+}
+
+// The double cylinder (docs/hair-bcsdf.md, "The medulla"; after Yan et al. 2015):
+// each internal chord at closest approach |sin gamma_t| to the axis crosses the
+// core over 2 l = 2 sqrt(k^2 - sin^2 gamma_t) of it and the cortex over the rest,
+// so the unscattered lobes keep T = T_cortex T_core per chord. What the core
+// stops, summed over the internal reflections, is
+//   (1 - F) sqrt(T_cortex) (1 - T_core) / (1 - F T),
+// of which escape_albedo(sigma_s / sigma_t) leaves the core and
+// exp(-sigma_a (1 - k)) crosses the cortex on the way out: A_4, the medulla lobe.
+// Without absorption the five A_p sum to 1.
+void HairBCSDF::medulla_attenuation(Attenuation& at, double F, double sin_gamma_t, double cos_gamma_t,
+                                    double cos_t) const {
+  const double k = p_.medulla_ratio;
+  const double l = medulla::half_chord(sin_gamma_t, k);
+  const double inv_cos_t = 1.0 / std::max(cos_t, 1e-12);
+  const double cortex_half = std::max(0.0, cos_gamma_t - l) * inv_cos_t;  // one of the chord's two cortex pieces
+  const double core = 2.0 * l * inv_cos_t;
+  at.A[0] = glm::dvec3(F);
+  for (int c = 0; c < 3; ++c) {
+    const double sigma_a = p_.sigma_a[c];
+    const double sigma_t = double(p_.medulla_sigma_s[c]) + double(p_.medulla_sigma_a[c]);
+    const double tc_half = std::exp(-sigma_a * cortex_half);
+    const double tm = std::exp(-sigma_t * core);
+    const double T = tc_half * tc_half * tm;
+    at.A[1][c] = (1.0 - F) * (1.0 - F) * T;
+    at.A[2][c] = at.A[1][c] * F * T;
+    const double loss = 1.0 - F * T;
+    at.A[3][c] = loss > 0.0 ? at.A[2][c] * F * T / loss : 0.0;
+    const double caught = loss > 0.0 ? (1.0 - F) * tc_half * (1.0 - tm) / loss : 0.0;
+    const double alpha = sigma_t > 0.0 ? double(p_.medulla_sigma_s[c]) / sigma_t : 0.0;
+    at.A[4][c] = caught * medulla::escape_albedo(alpha) * std::exp(-sigma_a * (1.0 - k));
+  }
 }
 
 // Chiang et al. 2016 eq. 2: f = sum_p Mp Ap Np / cos(theta_i); the pdf of their §4.3
@@ -252,6 +302,12 @@ HairBCSDF::Eval HairBCSDF::eval(const glm::vec3& wo, const glm::vec3& wi, const 
   const double mp3 = hair::longitudinal_mp(i.sin, i.cos, o.sin, o.cos, v_[3], mp_log_norm_[3]);
   f += at.A[3] * (mp3 / (2.0 * kPi));
   pdf += at.weight[3] * (mp3 / (2.0 * kPi));
+  if (exit_) {
+    // The medulla lobe: its exit shape over sin(theta_i) and the diffuse cylinder's azimuth.
+    const double g = exit_->pdf(i.sin) * medulla::lambertian_azimuth(phi);
+    f += at.A[4] * g;
+    pdf += at.weight[4] * g;
+  }
 
   f = i.cos > 0.0 ? f / i.cos : glm::dvec3(0.0);
   // pdf >= w_p Mp Np >= f cos / 3 per channel; flush what float would turn into f > 0, pdf = 0.
@@ -395,7 +451,7 @@ void HairBCSDF::f_cos_estimate(const glm::vec3& wo, std::size_t n, const float* 
   const Longitude o = longitude(wo);
   const Attenuation at = attenuation_for(wo, o.sin, o.cos);
   float sin_op[4], cos_op[4], inv_v[4], log_norm[4], shift[3], A[4][3];
-  for (int p = 0; p < kLobes; ++p) {
+  for (int p = 0; p < kChiangLobes; ++p) {
     inv_v[p] = float(1.0 / v_[p]);
     log_norm[p] = float(mp_log_norm_[p]);
     for (int c = 0; c < 3; ++c) A[p][c] = float(at.A[p][c]);
@@ -411,6 +467,21 @@ void HairBCSDF::f_cos_estimate(const glm::vec3& wo, std::size_t n, const float* 
   const float inv_s = float(1.0 / s_), np_scale = float(np_norm_ / s_);
   estimate_kernel(n, x, y, z, out_r, out_g, out_b, sin_op, cos_op, inv_v, log_norm, shift, A, inv_s, np_scale, wo.y,
                   wo.z);
+  if (!exit_) return;
+  // The medulla lobe, exactly (its terms are cheap beside the four above).
+  const glm::vec3 As(at.A[4]);
+  const double woy = wo.y, woz = wo.z, wo_len = std::sqrt(woy * woy + woz * woz);
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!(std::isfinite(x[k]) && std::isfinite(y[k]) && std::isfinite(z[k]))) continue;
+    const double sin_i = std::clamp(double(x[k]), -1.0, 1.0);
+    const double dot = double(z[k]) * woz + double(y[k]) * woy, cross = double(y[k]) * woz - double(z[k]) * woy;
+    const double len = wo_len * std::sqrt(double(y[k]) * y[k] + double(z[k]) * z[k]);
+    const double az = len > 0.0 ? medulla::lambertian_azimuth(dot / len, std::abs(cross) / len) : 0.0;
+    const float g = float(exit_->pdf(sin_i) * az);
+    out_r[k] += As.x * g;
+    out_g[k] += As.y * g;
+    out_b[k] += As.z * g;
+  }
 }
 
 // Chiang et al. 2016 §4.3: pick a lobe by its weight, sample theta_i from its Mp and
@@ -432,6 +503,20 @@ bool HairBCSDF::sample_direction(const glm::vec3& wo, const glm::vec2& u0, const
   }
   if (p < 0) return false;  // every lobe absorbed: no direction carries light
 
+  if (p == 4) {
+    // The medulla lobe: u0.x, rescaled within the lobe's share of [0, 1), and u0.y
+    // give the diffuse cylinder's azimuth, u1.x the exit shape's longitude.
+    const double lo = cdf - at.weight[4];
+    const double u = std::clamp((double(u0.x) - lo) / at.weight[4], 0.0, 1.0);
+    const double sin_i = exit_->sample(u1.x);
+    const double cos_i = std::sqrt(std::max(0.0, 1.0 - sin_i * sin_i));
+    const double phi_i = azimuth(wo) + medulla::sample_lambertian_azimuth(u0.y, u);
+    const glm::vec3 wi = glm::normalize(glm::vec3(glm::dvec3(sin_i, cos_i * std::sin(phi_i), cos_i * std::cos(phi_i))));
+    if (!finite(wi)) return false;
+    d.wi = wi;
+    d.lobe = p;
+    return true;
+  }
   double sin_op = o.sin, cos_op = o.cos;
   if (p < 3) {
     sin_op = o.sin * cos_shift_[p] + o.cos * sin_shift_[p];

@@ -13,6 +13,7 @@
 // (linear). Positive alpha_deg shifts R toward -x (the root, when +x points to
 // the tip) and TT/TRT toward +x. Model, clamps and references: docs/hair-bcsdf.md.
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string_view>
@@ -21,16 +22,34 @@
 
 namespace plumage {
 
+namespace medulla {
+class ExitShape;
+}
+
 struct HairParams {
   float beta_m = 0.3f;             // longitudinal roughness in (0,1]
   float beta_n = 0.3f;             // azimuthal roughness in (0,1]
   float alpha_deg = 2.0f;          // cuticle scale tilt (degrees)
   float eta = 1.55f;               // index of refraction of keratin
   glm::vec3 sigma_a{0.0f};         // absorption coefficient per unit radius (cross-section diameter 2)
+  // The medulla: a scattering core of radius medulla_ratio (in fibre radii, [0, 1))
+  // inside the cortex, whose absorption is sigma_a (docs/hair-bcsdf.md, "The
+  // medulla"). Off (the clear fibre of Chiang et al. 2016, to the last bit) while
+  // medulla_ratio is 0 or the core neither scatters nor absorbs.
+  float medulla_ratio = 0.0f;
+  glm::vec3 medulla_sigma_s{0.0f};  // scattering coefficient of the core per unit radius
+  glm::vec3 medulla_sigma_a{0.0f};  // absorption coefficient of the core per unit radius
 };
 
+// Whether params' medulla changes anything (see HairParams).
+inline bool has_medulla(const HairParams& p) {
+  const glm::vec3 t = p.medulla_sigma_s + p.medulla_sigma_a;
+  return p.medulla_ratio > 0.0f && (t.x > 0.0f || t.y > 0.0f || t.z > 0.0f);
+}
+
 // Throws plumage::Error naming the parameter and its valid range when params are
-// unusable (non-finite, beta outside (0,1], eta < 1, |alpha_deg| > 45, sigma_a < 0).
+// unusable (non-finite, beta outside (0,1], eta < 1, |alpha_deg| > 45, sigma_a < 0,
+// medulla_ratio outside [0, 1), a medulla coefficient < 0).
 // `what` prefixes the message (for example "feather.fcurves:12: barb material").
 void validate(const HairParams& params, std::string_view what = "hair BCSDF");
 
@@ -121,12 +140,16 @@ class HairBCSDF {
     double pdf;
   };
   // Chiang et al. 2016 eqs. 3-6: A_p per lobe, the lobe selection weights, gamma_t.
+  // Lobe 4 is the medulla's scattered light (0 without a medulla).
+  static constexpr int kLobes = 5;
   struct Attenuation {
-    glm::dvec3 A[4];
-    double weight[4];  // lobe selection probabilities, A_p (mean over RGB) normalised
+    glm::dvec3 A[kLobes];
+    double weight[kLobes];  // lobe selection probabilities, A_p (mean over RGB) normalised
     double gamma_t;
   };
   Attenuation attenuation(double sin_o, double cos_o) const;
+  // attenuation()'s A_p with the medulla (lobe 4 its scattered light).
+  void medulla_attenuation(Attenuation& at, double F, double sin_gamma_t, double cos_gamma_t, double cos_t) const;
   // attenuation() for wo: the one computed at construction when wo is that one.
   Attenuation attenuation_for(const glm::vec3& wo, double sin_o, double cos_o) const;
   Eval eval(const glm::vec3& wo, const glm::vec3& wi) const;
@@ -150,6 +173,8 @@ class HairBCSDF {
   double sin_shift_[3], cos_shift_[3];          // cuticle shifts of theta_o for R, TT, TRT
   double s_;                                    // logistic scale
   double gamma_o_, cos_gamma_o_;
+  // The medulla's exit shape for (eta, medulla_ratio); null without a medulla.
+  std::shared_ptr<const medulla::ExitShape> exit_;
   bool bound_ = false;  // constructed for one wo: bound_at_ holds its attenuation
   glm::vec3 bound_wo_{0};
   Attenuation bound_at_{};
