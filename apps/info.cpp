@@ -102,6 +102,10 @@ void print_json(std::ostream& out, const std::string& file, const Feather& f, co
                               {"rect",
                                {decimal(f.albedo.rect_min.x), decimal(f.albedo.rect_min.y),
                                 decimal(f.albedo.rect_max.x), decimal(f.albedo.rect_max.y)}}};
+  const auto rgb = [&](const glm::vec3& c) { return nlohmann::json::array({decimal(c.x), decimal(c.y), decimal(c.z)}); };
+  j["medulla"] = {{"ratio", decimal(f.medulla.ratio)},
+                  {"sigma_s", rgb(f.medulla.sigma_s)},
+                  {"sigma_a", rgb(f.medulla.sigma_a)}};
   out << j.dump(2) << "\n";
 }
 
@@ -145,6 +149,13 @@ void print_text(std::ostream& out, const std::string& file, const Feather& f, co
         << num(f.albedo.rect_max.x) << "] y [" << num(f.albedo.rect_min.y) << ", " << num(f.albedo.rect_max.y)
         << "] mm";
   out << "\n";
+  row("medulla");
+  if (f.medulla.ratio > 0)
+    out << "ratio " << num(f.medulla.ratio) << ", sigma_s " << num(f.medulla.sigma_s.x) << " " << num(f.medulla.sigma_s.y)
+        << " " << num(f.medulla.sigma_s.z) << ", sigma_a " << num(f.medulla.sigma_a.x) << " " << num(f.medulla.sigma_a.y)
+        << " " << num(f.medulla.sigma_a.z) << " per radius\n";
+  else
+    out << "none (clear fibres)\n";
 }
 
 struct InfoArgs {

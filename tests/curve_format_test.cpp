@@ -327,6 +327,36 @@ TEST(CurveFormat, RandomFeathersRoundTripExactly) {
   }
 }
 
+TEST(CurveFormat, MedullaRecordReadsWritesAndIsChecked) {
+  // The fibres' medulla: read, written back only when there is one, refused outside
+  // its ranges with the place and the setting named.
+  const std::string head = "fcurves 1\nunits mm\n";
+  const std::string tail = "curves 0\nend\n";
+  const Feather f = parse_fcurves(head + "medulla 0.7 8 8 9 0 0.1 0\n" + tail, "m.fcurves");
+  EXPECT_FLOAT_EQ(f.medulla.ratio, 0.7f);
+  EXPECT_EQ(f.medulla.sigma_s, glm::vec3(8, 8, 9));
+  EXPECT_EQ(f.medulla.sigma_a, glm::vec3(0, 0.1f, 0));
+  EXPECT_NE(format_fcurves(f).find("medulla 0.7 8 8 9 0 0.1 0\n"), std::string::npos);
+  EXPECT_EQ(format_fcurves(Feather{}).find("medulla"), std::string::npos);
+  const auto error_of = [&](const std::string& record) {
+    try {
+      parse_fcurves(head + record + tail, "m.fcurves");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(error_of("medulla 1 8 8 8 0 0 0\n").find("m.fcurves:3:9: medulla RATIO: must be in [0, 1)"), std::string::npos)
+      << error_of("medulla 1 8 8 8 0 0 0\n");
+  EXPECT_NE(error_of("medulla 0.5 8 -1 8 0 0 0\n").find("medulla SIGMA_S"), std::string::npos);
+  EXPECT_NE(error_of("medulla 0.5 8 8 8 0 0\n").find("medulla RATIO SIGMA_S_R"), std::string::npos);
+  EXPECT_NE(error_of("medulla 0.5 8 8 8 0 0 0\nmedulla 0.5 8 8 8 0 0 0\n").find(":4:"), std::string::npos);
+  Feather bad;
+  bad.medulla.ratio = 0.5f;
+  bad.medulla.sigma_a.y = std::nanf("");
+  EXPECT_THROW(format_fcurves(bad), Error);
+}
+
 TEST(CurveFormat, ExtremeFloatsAreWrittenInShortestForm) {
   Feather f = samples::sample_feather(2, 4);
   f.curves[1].points[0].p = {std::numeric_limits<float>::denorm_min(), -0.0f, 1e30f};

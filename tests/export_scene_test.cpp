@@ -113,15 +113,24 @@ TEST_P(ExportSceneTest, IsWhatTheRendererRenders) {
       const Scene scene(feather, hair);  // the renderer's own, all curves built
       const auto& fb = scene.feather_bounds();
 
-      // Width: barbs at W / 2 (not their own radius), as the scene draws them.
+      // Width: barbs at W / 2 (not their own radius) from the root to the last
+      // kBarbTipTaper of their length, then narrowing to their own radius at the
+      // tip, as the scene draws them.
       float widest = 0;
       for (const Curve& c : feather.curves)
-        for (const ControlPoint& p : c.points)
-          if (c.kind == CurveKind::Barb) {
-            EXPECT_EQ(render_radius(feather, c, p), 0.5f * feather.substructure(c.side).ribbon_width);
-            EXPECT_NE(render_radius(feather, c, p), p.radius);
-            widest = std::max(widest, render_radius(feather, c, p));
+        if (c.kind == CurveKind::Barb) {
+          const std::vector<float> r = render_radii(feather, c);
+          const float half_w = 0.5f * feather.substructure(c.side).ribbon_width;
+          EXPECT_EQ(r.front(), half_w);
+          EXPECT_NE(r.front(), c.points.front().radius);
+          if (c.points.size() > 4) {
+            EXPECT_EQ(r.back(), std::min(c.points.back().radius, half_w));
+          } else {
+            EXPECT_EQ(r.back(), half_w);
           }
+          for (std::size_t i = 1; i < r.size(); ++i) EXPECT_LE(r[i], r[i - 1]);  // never widens toward the tip
+          for (float x : r) widest = std::max(widest, x);
+        }
       EXPECT_EQ(widest, scene.max_barb_radius());
 
       const Camera camera(view.camera, view.width, view.height, fb);
@@ -229,9 +238,9 @@ TEST(ExportScene, TwoRadiusWidthWhenTheVaneHasNoRibbonWidth) {
   float widest = 0;
   for (const Curve& c : feather.curves)
     if (c.kind == CurveKind::Barb)
-      for (const ControlPoint& p : c.points) {
-        EXPECT_EQ(render_radius(feather, c, p), p.radius);
-        widest = std::max(widest, p.radius);
+      for (std::size_t i = 0; i < c.points.size(); ++i) {
+        EXPECT_EQ(render_radii(feather, c)[i], c.points[i].radius);
+        widest = std::max(widest, c.points[i].radius);
       }
   EXPECT_EQ(widest, scene.max_barb_radius());
   EXPECT_FALSE(es.card) << "no backdrop asked for";

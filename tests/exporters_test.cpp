@@ -124,12 +124,25 @@ std::vector<PbrtStatement> parse_pbrt(const std::string& text) {
   return out;
 }
 
-// The radius plumage draws a control point with (DESIGN §4), written out here
-// from the design rather than taken from render_radius().
-float drawn_radius(const Feather& f, const Curve& c, const ControlPoint& p) {
+// The radius plumage draws control point k with (DESIGN §4; feather.h), written out
+// here from the design rather than taken from render_radii(): a barb at W / 2 but over
+// the last kBarbTipTaper of its control polygon, where it eases (smoothstep) to its
+// own radius at the tip; a one-segment barb at W / 2 throughout.
+float drawn_radius(const Feather& f, const Curve& c, std::size_t k) {
+  const ControlPoint& p = c.points[k];
   if (c.kind == CurveKind::Shaft) return p.radius;
   const float w = (c.side == VaneSide::Right ? f.right : f.left).ribbon_width;
-  return w > 0 ? w / 2 : p.radius;
+  if (!(w > 0)) return p.radius;
+  float before = 0, total = 0;
+  for (std::size_t i = 1; i < c.points.size(); ++i) {
+    const float d = glm::length(c.points[i].p - c.points[i - 1].p);
+    total += d;
+    if (i <= k) before += d;
+  }
+  if (c.points.size() <= 4 || !(std::isfinite(kBarbTipTaper * total) && total > 0)) return w / 2;
+  const float t = std::clamp((total - before) / (kBarbTipTaper * total), 0.0f, 1.0f);
+  const float own = std::min(p.radius, w / 2);
+  return own + t * t * (3 - 2 * t) * (w / 2 - own);
 }
 
 glm::vec3 vec3_of(const std::vector<std::string>& v, std::size_t at = 0) {
@@ -265,15 +278,17 @@ PbrtScene check_pbrt(const std::string& text, const Feather& f, bool v4) {
     for (std::size_t k = 0; k < n; ++k)
       for (int a = 0; a < 3; ++a) EXPECT_EQ(to_f(P.values[3 * k + a]), c.points[k].p[a]);
     // Widths are the full width (2 r) of the drawn radius B-spline at the curve's
-    // ends, held inside the float range.
+    // ends, held inside the float range; a barb keeps its root's width to the tip
+    // (pbrt's width is linear over the whole curve: the tip taper is left out).
     auto full_width = [&](std::size_t k) {
-      const auto r = [&](std::size_t i) { return double(drawn_radius(f, c, c.points[i])); };
+      const auto r = [&](std::size_t i) { return double(drawn_radius(f, c, i)); };
       const double w = (r(k) + 4.0 * r(k + 1) + r(k + 2)) / 3.0;
       return std::min(w, double(std::numeric_limits<float>::max()));
     };
     const double w0 = float_param(s, "width0"), w1 = float_param(s, "width1");
     EXPECT_NEAR(w0, full_width(0), 1e-6 * full_width(0) + 1e-38);
-    EXPECT_NEAR(w1, full_width(n - 3), 1e-6 * full_width(n - 3) + 1e-38);
+    const double end = c.kind == CurveKind::Barb ? full_width(0) : full_width(n - 3);
+    EXPECT_NEAR(w1, end, 1e-6 * end + 1e-38);
     // Hair mode's barbs face the ray ("flat"); the shaft is round.
     EXPECT_EQ(s.params.at("type").values.at(0), c.kind == CurveKind::Shaft ? "cylinder" : "flat");
     EXPECT_FALSE(s.params.count("N"));
@@ -314,7 +329,7 @@ void check_mitsuba(const std::string& text, const Feather& f) {
     ASSERT_GE(curves[i].size(), 4u);
     for (std::size_t k = 0; k < curves[i].size(); ++k) {
       const ControlPoint& p = f.curves[i].points[k];
-      EXPECT_EQ(curves[i][k], glm::vec4(p.p, drawn_radius(f, f.curves[i], p)));
+      EXPECT_EQ(curves[i][k], glm::vec4(p.p, drawn_radius(f, f.curves[i], k)));
     }
   }
 }
@@ -674,7 +689,7 @@ void check_blender(const std::string& text, const Feather& f, const ExportScene&
     ASSERT_EQ(curves[i].size(), 4 * c.points.size()) << "curve " << i;
     for (std::size_t k = 0; k < c.points.size(); ++k)
       EXPECT_EQ(glm::vec4(curves[i][4 * k], curves[i][4 * k + 1], curves[i][4 * k + 2], curves[i][4 * k + 3]),
-                glm::vec4(c.points[k].p, drawn_radius(f, c, c.points[k])));
+                glm::vec4(c.points[k].p, drawn_radius(f, c, k)));
   }
   const auto& m = want.material;
   EXPECT_EQ(constants["SIGMA_A"], (std::vector<float>{m.sigma_a.x, m.sigma_a.y, m.sigma_a.z}));

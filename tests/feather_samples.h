@@ -123,6 +123,12 @@ inline Feather random_feather(std::mt19937_64& rng) {
     f.albedo.rect_min = {std::min(a, b), std::min(a, b)};
     f.albedo.rect_max = {std::max(a, b), std::max(a, b)};
   }
+  if (rng() % 2) {  // a medulla: ratio in [0, 1), coefficients anywhere >= 0
+    f.medulla.ratio = std::min(unit_interval(rng), std::nextafter(1.0f, 0.0f));
+    f.medulla.sigma_s = {extreme_nonneg(rng), extreme_nonneg(rng), extreme_nonneg(rng)};
+    f.medulla.sigma_a = {extreme_nonneg(rng), extreme_nonneg(rng), extreme_nonneg(rng)};
+    if (!(f.medulla.ratio > 0)) f.medulla = Medulla{};  // ratio 0 is written as no record
+  }
   for (SubstructureParams* p : {&f.left, &f.right}) {
     // Anywhere in the ranges every stage accepts (substructure_problem), ends included.
     p->barbules_per_side = int(rng() % 1000);

@@ -217,6 +217,35 @@ TEST(Fidelity, SilhouettesHaveNoHolesButKeepGapsOpenToTheEdge) {
   EXPECT_LT(compare_panels(full, measure_panel(slot, regions, {}), regions).feather.iou, 0.97);
 }
 
+TEST(Fidelity, PatternAndEdgeMeasures) {
+  // The luminance correlation sees the pattern: the same striped disc correlates 1,
+  // a darker copy still 1 (the pattern, not the level), a plain disc barely. The
+  // perimeter ratio sees the edge: 1 for the same disc, above 1.2 for the disc with a
+  // saw-tooth rim of the same size (the staircase of square ribbon ends).
+  const int w = 200, h = 120;
+  const PanelRegions regions = everywhere(w, h, 100);
+  const auto striped = [&](float scale) {
+    Image img = disc(w, h, 100, 60, 40);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        if (img.rgb(x, y).x < 0.5f) img.set_rgb(x, y, ((x / 6) % 2 ? glm::vec3(0.3f, 0.1f, 0.1f) : glm::vec3(0.1f, 0.05f, 0.05f)) * scale);
+    return img;
+  };
+  const MeasuredPanel photo = measure_panel(striped(1.0f), regions, {});
+  const RenderFidelity same = compare_panels(photo, measure_panel(striped(1.0f), regions, {}), regions);
+  EXPECT_NEAR(same.feather.luminance_correlation, 1.0, 1e-9);
+  EXPECT_NEAR(same.perimeter_ratio, 1.0, 1e-12);
+  EXPECT_NEAR(compare_panels(photo, measure_panel(striped(0.6f), regions, {}), regions).feather.luminance_correlation, 1.0, 1e-3);
+  EXPECT_LT(std::abs(compare_panels(photo, measure_panel(disc(w, h, 100, 60, 40), regions, {}), regions).feather.luminance_correlation), 0.3);
+  Image saw = disc(w, h, 100, 60, 40);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const double d = std::hypot(x + 0.5 - 100, y + 0.5 - 60);
+      if (d < 44 && d >= 36 && ((x / 4 + y / 4) % 2)) saw.set_rgb(x, y, d < 40 ? glm::vec3(0.9f) : glm::vec3(0.3f, 0.1f, 0.1f));
+    }
+  EXPECT_GT(compare_panels(measure_panel(disc(w, h, 100, 60, 40), regions, {}), measure_panel(saw, regions, {}), regions).perimeter_ratio, 1.2);
+}
+
 TEST(Fidelity, PanelsOfAnotherSizeAreRefused) {
   const PanelRegions regions = everywhere(50, 40, 25);
   EXPECT_THROW(measure_panel(Image(40, 40, 3), regions, {}), Error);

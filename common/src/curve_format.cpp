@@ -65,6 +65,11 @@ void validate_feather(const Feather& f) {
   };
   if (!finite3(f.albedo.color) || f.albedo.color.x < 0 || f.albedo.color.y < 0 || f.albedo.color.z < 0)
     fail("albedo colour must be finite and non-negative");
+  if (!(f.medulla.ratio >= 0 && f.medulla.ratio < 1))
+    fail("medulla ratio must lie in [0, 1) (the core's radius over the fibre's)");
+  if (!finite3(f.medulla.sigma_s) || !finite3(f.medulla.sigma_a) || f.medulla.sigma_s.x < 0 || f.medulla.sigma_s.y < 0 ||
+      f.medulla.sigma_s.z < 0 || f.medulla.sigma_a.x < 0 || f.medulla.sigma_a.y < 0 || f.medulla.sigma_a.z < 0)
+    fail("medulla coefficients must be finite and non-negative");
   if (!f.albedo.texture.empty()) {
     const glm::vec2 a = f.albedo.rect_min, b = f.albedo.rect_max;
     if (!std::isfinite(a.x) || !std::isfinite(a.y) || !std::isfinite(b.x) || !std::isfinite(b.y) ||
@@ -148,7 +153,7 @@ class Reader {
   std::vector<Token> tok_;
 
   // Records seen (line numbers, 0 = not yet), to reject duplicates and check required ones.
-  int units_line_ = 0, source_line_ = 0, seed_line_ = 0, color_line_ = 0, texture_line_ = 0, left_line_ = 0,
+  int medulla_line_ = 0, units_line_ = 0, source_line_ = 0, seed_line_ = 0, color_line_ = 0, texture_line_ = 0, left_line_ = 0,
       right_line_ = 0, curves_line_ = 0, shaft_line_ = 0, last_curve_line_ = 0;
   std::uint64_t declared_curves_ = 0;
   bool in_curves_ = false;
@@ -410,10 +415,11 @@ void Reader::parse_record(Feather& f) {
     fail(key, "unexpected numbers outside a curve: control points follow a 'curve' record");
   }
   const bool header =
-      k == "units" || k == "source" || k == "seed" || k == "albedo" || k == "substructure" || k == "curves";
+      k == "units" || k == "source" || k == "seed" || k == "albedo" || k == "medulla" || k == "substructure" ||
+      k == "curves";
   if (!header)
     fail(key, "unknown record '" + std::string(k) +
-                  "' (expected units, source, seed, albedo, substructure, curves, curve or end)");
+                  "' (expected units, source, seed, albedo, medulla, substructure, curves, curve or end)");
   if (in_curves_)
     fail(key, "header record '" + std::string(k) + "' after the first curve: move it above the curves");
   if (k == "units") {
@@ -433,6 +439,12 @@ void Reader::parse_record(Feather& f) {
     f.provenance.seed = unsigned_int(tok_[1], "seed");
   } else if (k == "albedo") {
     parse_albedo(f);
+  } else if (k == "medulla") {
+    once(medulla_line_);
+    expect_count(8, "medulla RATIO SIGMA_S_R SIGMA_S_G SIGMA_S_B SIGMA_A_R SIGMA_A_G SIGMA_A_B");
+    f.medulla.ratio = ranged_float(tok_[1], "medulla RATIO", 0.0f, std::nextafter(1.0f, 0.0f), "[0, 1)");
+    for (int i = 0; i < 3; ++i) f.medulla.sigma_s[i] = nonneg_float(tok_[2 + i], "medulla SIGMA_S");
+    for (int i = 0; i < 3; ++i) f.medulla.sigma_a[i] = nonneg_float(tok_[5 + i], "medulla SIGMA_A");
   } else if (k == "substructure") {
     parse_substructure(f);
   } else {  // curves
@@ -590,6 +602,15 @@ std::string format_fcurves(const Feather& f) {
       out += ' ';
       append_float(out, v);
     }
+    out += '\n';
+  }
+  if (f.medulla.ratio > 0) {
+    out += "medulla ";
+    append_float(out, f.medulla.ratio);
+    out += ' ';
+    append_vec3(out, f.medulla.sigma_s);
+    out += ' ';
+    append_vec3(out, f.medulla.sigma_a);
     out += '\n';
   }
   for (VaneSide s : {VaneSide::Left, VaneSide::Right}) {

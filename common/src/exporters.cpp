@@ -114,12 +114,17 @@ void append_pbrt_curve(std::string& out, const Feather& f, const Curve& c, PbrtV
   }
   // pbrt interpolates width linearly from the curve's start to its end; plumage's
   // radius is a B-spline per control point, so its end values are used (exact for
-  // a barb drawn at its vane's constant ribbon width).
+  // a barb drawn at its vane's constant ribbon width). A barb's tip taper
+  // (kBarbTipTaper) would narrow the whole curve that way, so a barb keeps its
+  // base width to the tip: pbrt draws square ribbon ends where plumage tapers.
   std::vector<ControlPoint> drawn(cp);
-  for (ControlPoint& p : drawn) p.radius = render_radius(f, c, p);
+  const std::vector<float> radii = render_radii(f, c);
+  for (std::size_t i = 0; i < drawn.size(); ++i) drawn[i].radius = radii[i];
+  const float end_width = c.kind == CurveKind::Barb ? at_joint(drawn, 0, &ControlPoint::radius)
+                                                    : at_joint(drawn, segments, &ControlPoint::radius);
   out += " ]\n ";
   append_pbrt_floats(out, "float width0", {finite_float(2 * at_joint(drawn, 0, &ControlPoint::radius))});
-  append_pbrt_floats(out, "float width1", {finite_float(2 * at_joint(drawn, segments, &ControlPoint::radius))});
+  append_pbrt_floats(out, "float width1", {finite_float(2 * end_width)});
   out += '\n';
 }
 
@@ -328,10 +333,11 @@ std::string format_mitsuba_curves(const Feather& f) {
   for (const Curve& c : f.curves) {
     if (!first) out += '\n';
     first = false;
-    for (const ControlPoint& p : c.points) {
-      append_vec3(out, p.p);
+    const std::vector<float> radii = render_radii(f, c);
+    for (std::size_t i = 0; i < c.points.size(); ++i) {
+      append_vec3(out, c.points[i].p);
       out += ' ';
-      append_float(out, render_radius(f, c, p));
+      append_float(out, radii[i]);
       out += '\n';
     }
   }
@@ -489,8 +495,10 @@ std::string format_blender(const Feather& f, const ExportScene& s) {
   out += "# One tuple of (x, y, z, radius) control points per curve; the shaft first.\nCURVES = [\n";
   for (const Curve& c : f.curves) {
     out += "    (";
-    for (const ControlPoint& p : c.points) {
-      out += py_tuple({p.p.x, p.p.y, p.p.z, render_radius(f, c, p)});
+    const std::vector<float> radii = render_radii(f, c);
+    for (std::size_t i = 0; i < c.points.size(); ++i) {
+      const ControlPoint& p = c.points[i];
+      out += py_tuple({p.p.x, p.p.y, p.p.z, radii[i]});
       out += ", ";
     }
     out += "),\n";

@@ -1,5 +1,7 @@
 #include "plumage/common/feather.h"
 
+#include <algorithm>
+
 #include <cmath>
 
 #include "float_text.h"
@@ -72,10 +74,27 @@ std::size_t Feather::num_control_points() const {
   return n;
 }
 
-float render_radius(const Feather& f, const Curve& c, const ControlPoint& cp) {
-  if (c.kind != CurveKind::Barb) return cp.radius;
-  const float w = f.substructure(c.side).ribbon_width;
-  return w > 0 ? 0.5f * w : cp.radius;
+std::vector<float> render_radii(const Feather& f, const Curve& c) {
+  std::vector<float> r(c.points.size());
+  for (std::size_t i = 0; i < r.size(); ++i) r[i] = c.points[i].radius;
+  const float w = c.kind == CurveKind::Barb ? f.substructure(c.side).ribbon_width : 0.0f;
+  if (!(w > 0)) return r;
+  // Arc length of the control polygon up to each point.
+  std::vector<float> s(r.size(), 0.0f);
+  for (std::size_t i = 1; i < r.size(); ++i) s[i] = s[i - 1] + glm::length(c.points[i].p - c.points[i - 1].p);
+  const float total = s.empty() ? 0.0f : s.back(), taper = kBarbTipTaper * total;
+  if (c.points.size() <= 4 || !(std::isfinite(taper) && taper > 0)) {  // no room, or no length to taper over
+    std::fill(r.begin(), r.end(), 0.5f * w);
+    return r;
+  }
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    const float to_tip = total - s[i];
+    const float t = std::clamp(to_tip / taper, 0.0f, 1.0f);
+    const float k = t * t * (3.0f - 2.0f * t);  // smoothstep: 0 at the tip, 1 from kBarbTipTaper on
+    const float own = std::min(c.points[i].radius, 0.5f * w);
+    r[i] = own + k * (0.5f * w - own);
+  }
+  return r;
 }
 
 }  // namespace plumage

@@ -1,5 +1,7 @@
 #include "plumage/renderer/export_scene.h"
 
+#include <cstdio>
+
 #include "plumage/common/error.h"
 #include "plumage/renderer/camera.h"
 #include "plumage/renderer/shading_mode.h"
@@ -51,6 +53,18 @@ ExportScene export_scene(const Feather& feather, const DomeRig& rig, const ViewS
   s.material = {hp.sigma_a, hp.beta_m, hp.beta_n, hp.alpha_deg, hp.eta};
   if (!feather.albedo.texture.empty() && !view.sigma_a)
     s.material_note = "sigma_a is the one plumage gives the feather's centre: the albedo texture is not exported.";
+  if (has_medulla(hp)) {
+    // None of the targets' hair models (pbrt's "hair", Mitsuba's hair, Cycles' Principled Hair) has a
+    // scattering core; the nearest each offers is its clear fibre with the cortex's sigma_a.
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "the fibres' medulla (ratio %.3g, sigma_s %.3g %.3g %.3g, sigma_a %.3g %.3g %.3g per radius) has no "
+                  "counterpart in this target's hair model: the fibres are exported clear, so pale ones render darker.",
+                  double(hp.medulla_ratio), double(hp.medulla_sigma_s.x), double(hp.medulla_sigma_s.y),
+                  double(hp.medulla_sigma_s.z), double(hp.medulla_sigma_a.x), double(hp.medulla_sigma_a.y),
+                  double(hp.medulla_sigma_a.z));
+    s.material_note += (s.material_note.empty() ? "" : " ") + std::string(buf);
+  }
   return s;
 }
 

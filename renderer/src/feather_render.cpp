@@ -34,12 +34,18 @@ LightSet view_lights(const Bounds3f& fb, const DomeRig& rig, const ViewSpec& vie
 
 FibreMaterial view_material(const Feather& feather, const ViewSpec& view, ShadingMode mode) {
   validate(view.hair, "--beta-m/--beta-n/--alpha/--eta");
+  HairParams fibre = view.hair;
+  if (feather.medulla.ratio > 0 && !has_medulla(fibre)) {  // the curve file's medulla, unless the view sets one
+    fibre.medulla_ratio = feather.medulla.ratio;
+    fibre.medulla_sigma_s = feather.medulla.sigma_s;
+    fibre.medulla_sigma_a = feather.medulla.sigma_a;
+  }
   if (!view.sigma_a) {
-    FibreMaterial m(view.hair, AlbedoMap(feather.albedo, view.base_dir));
-    if (view.photo_card) m.set_card(*view.photo_card, card_response(mode));
+    FibreMaterial m(fibre, AlbedoMap(feather.albedo, view.base_dir));
+    if (view.photo_card) m.set_card(*view.photo_card, card_response(mode), view.photo_texture_absolute);
     return m;
   }
-  HairParams hp = view.hair;
+  HairParams hp = fibre;
   hp.sigma_a = *view.sigma_a;
   return FibreMaterial(hp);
 }

@@ -56,15 +56,23 @@ glm::vec3 photo_albedo_to_fibre(const glm::vec3& area_albedo, float coverage, in
   return glm::vec3(1.0f) - (glm::vec3(1.0f) - t) / coverage;
 }
 
-void FibreMaterial::set_card(const glm::vec3& card, const CardResponse& response) {
+void FibreMaterial::set_card(const glm::vec3& card, const CardResponse& response, bool absolute) {
   card_.emplace(response, card);
+  texel_scale_ = absolute ? 1.0f / std::max(luminance(glm::max(card, glm::vec3(0.0f))), 1e-3f) : 1.0f;
 }
 
 HairParams FibreMaterial::at(const glm::vec3& p, float coverage, int layers) const {
   HairParams hp = params_;
   if (albedo_ && albedo_->textured() && mapping_ == AlbedoMapping::Layer) {
     glm::vec3 a = albedo_->at({p.x, p.y});
-    if (card_) a = (*card_)(a);
+    if (card_) {
+      const FibreColour fc = (*card_)(a * texel_scale_);
+      a = fc.albedo;
+      if (fc.medulla_sigma_s > 0.0f) {
+        hp.medulla_ratio = kPhotoMedullaRatio;
+        hp.medulla_sigma_s = glm::vec3(fc.medulla_sigma_s);
+      }
+    }
     hp.sigma_a = sigma_a_from(photo_albedo_to_fibre(a, coverage, layers));
     return hp;
   }

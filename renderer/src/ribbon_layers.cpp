@@ -12,8 +12,10 @@ RibbonLayers::RibbonLayers(const Feather& feather) {
   float thinnest = 1e30f;
   for (const Curve& c : feather.curves) {
     if (c.kind != CurveKind::Barb) continue;
-    for (const ControlPoint& cp : c.points) {
-      const float r = render_radius(feather, c, cp);
+    const std::vector<float> radii = render_radii(feather, c);
+    for (std::size_t k = 0; k < c.points.size(); ++k) {
+      const ControlPoint& cp = c.points[k];
+      const float r = radii[k];
       lo = glm::min(lo, glm::vec2(cp.p) - r);
       hi = glm::max(hi, glm::vec2(cp.p) + r);
       if (r > 0) thinnest = std::min(thinnest, r);
@@ -37,11 +39,12 @@ RibbonLayers::RibbonLayers(const Feather& feather) {
     // The barb as a polyline of points about a radius apart, each piece a capsule
     // (a B-spline segment bends little over one radius).
     q.clear(), r.clear();
+    const std::vector<float> radii = render_radii(feather, c);
     for (std::size_t s = 0; s + 3 < c.points.size(); ++s) {
       const ControlPoint* cp = &c.points[s];
       float rc[4], polygon = 0, rmin = 1e30f;
       for (int i = 0; i < 4; ++i) {
-        rc[i] = render_radius(feather, c, cp[i]);
+        rc[i] = radii[s + i];
         rmin = std::min(rmin, rc[i]);
         if (i > 0) polygon += glm::length(glm::vec2(cp[i].p - cp[i - 1].p));
       }

@@ -49,8 +49,10 @@ Scene::Scene(const Feather& feather, const SceneOptions& options)
   float barb_lo_z = std::numeric_limits<float>::infinity();
   for (std::size_t i = 0; i < feather_.curves.size(); ++i) {
     const Curve& c = feather_.curves[i];
-    for (const ControlPoint& cp : c.points) {
-      const float r = plumage::render_radius(feather_, c, cp);
+    const std::vector<float> radii = plumage::render_radii(feather_, c);
+    for (std::size_t k = 0; k < c.points.size(); ++k) {
+      const ControlPoint& cp = c.points[k];
+      const float r = radii[k];
       curve_boxes[i].extend(cp.p - glm::vec3(r));
       curve_boxes[i].extend(cp.p + glm::vec3(r));
       max_radius_ = std::max(max_radius_, r);
@@ -113,7 +115,8 @@ void Scene::add_curves(CurveGeometry& g, CurveKind kind, int rtc_type) {
     const Curve& c = feather_.curves[ci];
     if (c.kind != kind || !keep_[ci]) continue;
     const auto first = std::uint32_t(g.vertices.size());
-    for (const ControlPoint& cp : c.points) g.vertices.emplace_back(cp.p, plumage::render_radius(feather_, c, cp));
+    const std::vector<float> radii = plumage::render_radii(feather_, c);
+    for (std::size_t k = 0; k < c.points.size(); ++k) g.vertices.emplace_back(c.points[k].p, radii[k]);
     for (std::uint32_t s = 0; s + 3 < c.points.size(); ++s) {
       g.indices.push_back(first + s);
       g.prims.push_back({ci, first + s, ci});

@@ -173,6 +173,18 @@ MeasuredPanel measure_panel(const Image& panel, const PanelRegions& regions, con
   return m;
 }
 
+long mask_perimeter(const std::vector<char>& mask, const PanelRegions& regions) {
+  const auto in = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < regions.width && y < regions.height && regions.at(x, y) &&
+           mask[std::size_t(y) * regions.width + x];
+  };
+  long n = 0;
+  for (int y = 0; y < regions.height; ++y)
+    for (int x = 0; x < regions.width; ++x)
+      if (in(x, y) && !(in(x - 1, y) && in(x + 1, y) && in(x, y - 1) && in(x, y + 1))) ++n;
+  return n;
+}
+
 RenderFidelity compare_panels(const MeasuredPanel& photo, const MeasuredPanel& render, const PanelRegions& regions) {
   check_size(photo.blurred, regions);
   check_size(render.blurred, regions);
@@ -180,7 +192,21 @@ RenderFidelity compare_panels(const MeasuredPanel& photo, const MeasuredPanel& r
     long both = 0, either = 0, p = 0, r = 0;
     glm::dvec3 photo_sum{0}, render_sum{0};
     double de_sum = 0;
+    double lp = 0, lr = 0, lpp = 0, lrr = 0, lpr = 0, ln = 0;  // luminance moments inside the photo's mask
   } sums[3];  // whole feather, left, right
+  // Inside the photo's mask by kInset pixels: the blurred rim, half card, would
+  // otherwise make any two silhouettes of the same shape correlate.
+  constexpr int kInset = 3;
+  const auto in_photo = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < regions.width && y < regions.height &&
+           photo.feather[std::size_t(y) * regions.width + x];
+  };
+  const auto interior = [&](int x, int y) {
+    for (int dy = -kInset; dy <= kInset; dy += kInset)
+      for (int dx = -kInset; dx <= kInset; dx += kInset)
+        if (!in_photo(x + dx, y + dy)) return false;
+    return true;
+  };
   for (int y = 0; y < regions.height; ++y)
     for (int x = 0; x < regions.width; ++x) {
       const unsigned char side = regions.at(x, y);
@@ -199,6 +225,10 @@ RenderFidelity compare_panels(const MeasuredPanel& photo, const MeasuredPanel& r
           s->photo_sum += glm::dvec3(photo.blurred.rgb(x, y));
           s->render_sum += glm::dvec3(render.blurred.rgb(x, y));
           s->de_sum += de;
+          if (interior(x, y)) {
+            const double a = luminance(photo.blurred.rgb(x, y)), b = luminance(render.blurred.rgb(x, y));
+            s->lp += a, s->lr += b, s->lpp += a * a, s->lrr += b * b, s->lpr += a * b, s->ln += 1;
+          }
         }
       }
     }
@@ -212,6 +242,9 @@ RenderFidelity compare_panels(const MeasuredPanel& photo, const MeasuredPanel& r
       v.render_mean = glm::vec3(s.render_sum / double(s.p));
       v.mean_colour_de2000 = ciede2000(linear_rgb_to_lab(v.photo_mean), linear_rgb_to_lab(v.render_mean));
       v.pixel_de2000 = s.de_sum / double(s.p);
+      const double n = s.ln;
+      const double cov = s.lpr - s.lp * s.lr / n, vp = s.lpp - s.lp * s.lp / n, vr = s.lrr - s.lr * s.lr / n;
+      v.luminance_correlation = n > 1 && vp > 0 && vr > 0 ? cov / std::sqrt(vp * vr) : 0.0;
     }
     return v;
   };
@@ -220,6 +253,8 @@ RenderFidelity compare_panels(const MeasuredPanel& photo, const MeasuredPanel& r
   f.left = vane(sums[1]);
   f.right = vane(sums[2]);
   f.backdrop_de2000 = ciede2000(linear_rgb_to_lab(photo.backdrop), linear_rgb_to_lab(render.backdrop));
+  const long photo_edge = mask_perimeter(photo.feather, regions), render_edge = mask_perimeter(render.feather, regions);
+  f.perimeter_ratio = photo_edge > 0 ? double(render_edge) / double(photo_edge) : 0.0;
   return f;
 }
 
@@ -261,7 +296,8 @@ nlohmann::json vane_json(const VaneFidelity& v) {
           {"photo_mean_rgb", rgb_json(v.photo_mean)},
           {"render_mean_rgb", rgb_json(v.render_mean)},
           {"mean_colour_de2000", v.mean_colour_de2000},
-          {"pixel_de2000", v.pixel_de2000}};
+          {"pixel_de2000", v.pixel_de2000},
+          {"luminance_correlation", v.luminance_correlation}};
 }
 }  // namespace
 
@@ -269,7 +305,8 @@ nlohmann::json to_json(const RenderFidelity& f) {
   return {{"feather", vane_json(f.feather)},
           {"left", vane_json(f.left)},
           {"right", vane_json(f.right)},
-          {"backdrop_de2000", f.backdrop_de2000}};
+          {"backdrop_de2000", f.backdrop_de2000},
+          {"perimeter_ratio", f.perimeter_ratio}};
 }
 
 nlohmann::json to_json(const FidelitySettings& s) {

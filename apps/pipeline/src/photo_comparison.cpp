@@ -93,9 +93,22 @@ PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, con
   view.card_level = luminance(bg);
   // On a light background the albedo texture is relative to the paper, which the
   // card stands for: the vane must look that many times the card.
-  if (layout.background == "light") view.photo_card = so.backdrop.albedo;
+  // On a dark one it is the photo's own colour, inverted through the same table over
+  // the card that stands for the cloth.
+  view.photo_card = so.backdrop.albedo;
+  view.photo_texture_absolute = layout.background != "light";
   c.panels.push_back({std::move(photo_panel), "photo"});
   for (Panel& p : render_both_modes(feather, so, rig, view)) c.panels.push_back(std::move(p));
+  if (!feather.albedo.texture.empty()) {
+    std::filesystem::path tex = feather.albedo.texture;
+    if (tex.is_relative()) tex = view.base_dir / tex;
+    const Image texture = read_image(tex);
+    const float scale = view.photo_texture_absolute
+                            ? 1.0f / std::max(luminance(glm::max(*view.photo_card, glm::vec3(0.0f))), 1e-3f)
+                            : 1.0f;
+    for (ShadingMode mode : {ShadingMode::Hair, ShadingMode::Substructure})
+      c.inversion.push_back(count_inversion(texture, CardCorrection(card_response(mode), *view.photo_card), scale));
+  }
   c.regions = crop_regions(picked, c.crop);
   // The photo's backdrop is its background (neighbouring feathers may lie in its
   // ring); a render's card is alone in its panel.
@@ -105,6 +118,18 @@ PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, con
   for (std::size_t i = 1; i < c.measured.size(); ++i)
     c.fidelity.push_back(compare_panels(c.measured[0], c.measured[i], c.regions));
   return c;
+}
+
+InversionCounts count_inversion(const Image& texture, const CardCorrection& correction, float texel_scale) {
+  InversionCounts n;
+  for (int y = 0; y < texture.height; ++y)
+    for (int x = 0; x < texture.width; ++x) {
+      const FibreColour fc = correction(glm::clamp(texture.rgb(x, y), glm::vec3(0.0f), glm::vec3(1.0f)) * texel_scale);
+      ++n.texels;
+      n.medulla += fc.medulla_sigma_s > 0.0f;
+      n.clamped += fc.clamped;
+    }
+  return n;
 }
 
 Image comparison_image(const PhotoComparison& c) { return side_by_side(c.panels); }
@@ -127,7 +152,13 @@ nlohmann::json fidelity_json(const PhotoComparison& c) {
                 {"height", c.crop.height},
                 {"photo_origin_px", {c.crop.origin_px.x, c.crop.origin_px.y}},
                 {"photo_px_per_panel_px", c.crop.px_per_panel_px}};
-  for (std::size_t i = 1; i < c.panels.size(); ++i) j[c.panels[i].label] = to_json(c.fidelity[i - 1]);
+  for (std::size_t i = 1; i < c.panels.size(); ++i) {
+    j[c.panels[i].label] = to_json(c.fidelity[i - 1]);
+    if (i - 1 < c.inversion.size()) {
+      const InversionCounts& n = c.inversion[i - 1];
+      j[c.panels[i].label]["inversion"] = {{"texels", n.texels}, {"medulla", n.medulla}, {"clamped", n.clamped}};
+    }
+  }
   return j;
 }
 

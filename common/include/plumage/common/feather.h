@@ -74,6 +74,15 @@ struct Albedo {
   bool operator==(const Albedo&) const = default;
 };
 
+// The fibres' medulla (docs/hair-bcsdf.md, "The medulla"): a scattering core of
+// radius `ratio` (fibre radii, [0, 1); 0 for none) with scattering and absorption
+// coefficients per unit radius (each >= 0). The renderer's HairParams take it.
+struct Medulla {
+  float ratio = 0.0f;
+  glm::vec3 sigma_s{0.0f}, sigma_a{0.0f};
+  bool operator==(const Medulla&) const = default;
+};
+
 struct Provenance {
   std::string source;                    // "preset:osprey-covert", "photo:path.jpg", ...
   std::optional<std::uint64_t> seed;
@@ -84,6 +93,7 @@ struct Feather {
   std::string units = "mm";
   Provenance provenance;
   Albedo albedo;
+  Medulla medulla;
   SubstructureParams left, right;        // per vane
   std::vector<Curve> curves;             // the shaft (if any) first, then barbs
 
@@ -96,11 +106,20 @@ struct Feather {
   bool operator==(const Feather&) const = default;
 };
 
-// The radius a control point is drawn with in hair and substructure modes (DESIGN
-// §4): a barb takes half its vane's ribbon width W, the same width in both modes
-// (the paper: "the same curve width parameter was used for the hair and
-// substructure versions"); the shaft, and a barb whose vane has no W, keep their
-// own radius. The renderer and the exporters draw with it.
-float render_radius(const Feather& feather, const Curve& curve, const ControlPoint& point);
+// The fraction of a barb's length (its control polygon's) over which its drawn
+// width tapers to the barb's own radius at the tip: distal barbules shorten toward
+// the barb's tip, so a vane's edge is the smooth line of the tips, not a staircase of
+// square ribbon ends.
+inline constexpr float kBarbTipTaper = 0.2f;
+
+// The radius each control point of `curve` is drawn with in hair and substructure
+// modes (DESIGN §4): a barb takes half its vane's ribbon width W, the same width in
+// both modes (the paper: "the same curve width parameter was used for the hair and
+// substructure versions"), tapering over the last kBarbTipTaper of its length
+// (smoothstep in the control polygon's arc length) to its own radius; a barb of one
+// B-spline segment (4 points) has no room to taper without narrowing its middle and
+// stays at W/2, as does one whose polygon length is 0 or not finite. The shaft, and a barb whose vane has no W, keep their own radii. The
+// renderer and the exporters draw with it.
+std::vector<float> render_radii(const Feather& feather, const Curve& curve);
 
 }  // namespace plumage

@@ -16,12 +16,18 @@
 // RenderMaterial.CardResponseFit, and RenderMaterial.CardResponseModelsAClosedVane
 // holds it to renders); between the table's albedos the three terms are linear in A.
 #include <array>
+#include <cstddef>
 
 #include <glm/glm.hpp>
 
 #include "plumage/renderer/shading_mode.h"
 
 namespace plumage {
+
+// The medulla radius (in fibre radii) of the fibres the photo inversion makes pale:
+// the rami of white and structurally coloured barbs are mostly spongy medulla
+// inside a thin cortex (Prum et al. 1998; Shawkey & Hill 2006).
+inline constexpr float kPhotoMedullaRatio = 0.7f;
 
 struct CardResponseNode {
   float albedo;   // the mapping's input albedo A
@@ -30,12 +36,23 @@ struct CardResponseNode {
   float bounce;   // light between card and vane, once more per card albedo
 };
 
+// One row of the table: the vane's fibres with a medulla of ratio kPhotoMedullaRatio
+// scattering medulla_sigma_s per radius (row 0: none, the clear fibre).
+struct CardResponseRow {
+  float medulla_sigma_s;
+  std::array<CardResponseNode, 12> nodes;  // albedo ascending, 0 to 1
+};
+
 struct CardResponse {
   static constexpr int kNodes = 12;
-  std::array<CardResponseNode, kNodes> nodes;  // albedo ascending, 0 to 1
+  static constexpr int kRows = 7;
+  std::array<CardResponseRow, kRows> rows;  // medulla_sigma_s ascending, 0 first
 
-  // seen / card at node i over a card of albedo c.
-  float seen(int i, float c) const { return nodes[i].through + nodes[i].reflect / c + nodes[i].bounce * c; }
+  // seen / card at row j, node i over a card of albedo c.
+  float seen(int j, int i, float c) const {
+    const CardResponseNode& n = rows[j].nodes[i];
+    return n.through + n.reflect / c + n.bounce * c;
+  }
 };
 
 // The response of a closed vane (ribbons overlapping 1.3 times the barb gap,
@@ -45,23 +62,38 @@ struct CardResponse {
 // Substructure's (their barbules lie in the vane as its do).
 const CardResponse& card_response(ShadingMode mode);
 
-// The mapping's input albedo that makes such a vane over a card of albedo `card`
-// look `seen` times the card: on the luminances, the A at which the table's
-// seen / card, linear between its nodes, equals seen (0 below what black fibres
-// show, 1 above what white ones do), and `seen` scaled by A / its luminance so that
-// the hue stays; clamped to [0, 1]. `card` is clamped to at least 1e-3; non-finite
-// channels count as 0 (seen) or 1 (card). Built once per card (the table's seen /
-// card over it), applied per texel.
+// What a texel of a photo becomes: the albedo handed to the layer mapping and the
+// medulla's scattering (0: a clear fibre).
+struct FibreColour {
+  glm::vec3 albedo{0.0f};
+  float medulla_sigma_s = 0.0f;
+  bool clamped = false;  // the texel lies outside what the table's fibres can show over this card
+};
+
+// The fibre that makes such a vane over a card of albedo `card` look `seen` times
+// the card (docs/hair-bcsdf.md, "Colours inverted through the renderer"):
+// * while no channel is brighter than white clear fibres show (row 0's A = 1), a
+//   clear fibre: on the luminances, the A at which row 0's seen / card, linear
+//   between its nodes, equals seen (0 below what black fibres show), and `seen`
+//   scaled by A / its luminance so that the hue stays; clamped to [0, 1];
+// * paler texels get a medulla: its scattering is the one at which white fibres
+//   show the brightest channel (linear between rows, the rows that show less than
+//   the row before skipped), then each channel's A is inverted on that row alone.
+//   Channels beyond the row's reach are clamped (and the texel counted).
+// `card` is clamped to at least 1e-3; non-finite channels count as 0 (seen) or 1
+// (card). Built once per card, applied per texel.
 class CardCorrection {
  public:
   CardCorrection(const CardResponse& r, const glm::vec3& card);
-  glm::vec3 operator()(const glm::vec3& seen) const;
+  FibreColour operator()(const glm::vec3& seen) const;
 
  private:
-  std::array<float, CardResponse::kNodes> albedo_, seen_;
+  std::array<float, CardResponse::kNodes> albedo_;
+  std::array<std::array<float, CardResponse::kNodes>, CardResponse::kRows> seen_;
+  std::array<float, CardResponse::kRows> sigma_s_;
 };
 
-// CardCorrection(r, card)(seen), for one texel.
+// CardCorrection(r, card)(seen).albedo, for one texel.
 glm::vec3 albedo_over_card(const glm::vec3& seen, const glm::vec3& card, const CardResponse& r);
 
 }  // namespace plumage

@@ -39,9 +39,12 @@ struct ViewSpec {
   HairParams hair;               // sigma_a comes from the feather's albedo ...
   std::optional<glm::vec3> sigma_a;  // ... unless it is given here
   std::filesystem::path base_dir = ".";  // the curve file's folder (albedo texture paths)
-  // Set: the albedo texture is a photo's on a light background, relative to a card
-  // of this albedo, the backdrop the feather lies on (FibreMaterial::set_card).
+  // Set: the albedo texture is a photo's, inverted through the card response over a
+  // card of this albedo, the backdrop the feather lies on (FibreMaterial::set_card):
+  // relative to the card (a light background, the paper divided out) unless
+  // photo_texture_absolute (a dark background: the photo's own colour).
   std::optional<glm::vec3> photo_card;
+  bool photo_texture_absolute = false;
   int threads = 0;
   bool progress = false;
   SampleAllocation allocation = RenderSettings{}.allocation;

@@ -63,11 +63,15 @@ class FibreMaterial {
   // preset's) is the fibres' own colour and is used as it is.
   HairParams at(const glm::vec3& p, float coverage = 1.0f, int layers = 1) const;
 
-  // The texture is a photo's on a light background, relative to the card the
-  // feather lies on in the render (albedo `card`): before the mapping, its albedo
-  // becomes CardCorrection(response, card)(A), so the vane looks A times that
-  // card although part of its light never reaches the card (card_response.h).
-  void set_card(const glm::vec3& card, const CardResponse& response);
+  // The texture is a photo's, of a feather lying on the card it lies on in the
+  // render (albedo `card`): relative to that card (a light background, the paper
+  // divided out), or with `absolute` the photo's own colour (a dark background),
+  // which is divided by the card's luminance first. Before the mapping each texel
+  // becomes the fibre of CardCorrection(response, card): an albedo, and for texels
+  // paler than clear fibres can look, a medulla (ratio kPhotoMedullaRatio) that
+  // scatters; so the vane looks as the photo's does although part of its light
+  // never reaches the card (card_response.h).
+  void set_card(const glm::vec3& card, const CardResponse& response, bool absolute = false);
 
  private:
   glm::vec3 sigma_a_from(const glm::vec3& albedo) const;
@@ -77,6 +81,7 @@ class FibreMaterial {
   AlbedoMapping mapping_ = AlbedoMapping::Layer;
   glm::vec3 constant_sigma_a_;
   std::optional<CardCorrection> card_;
+  float texel_scale_ = 1.0f;  // 1 / the card's luminance for an absolute texture
 };
 
 }  // namespace plumage

@@ -56,12 +56,23 @@ struct VaneFidelity {
   glm::vec3 photo_mean{0}, render_mean{0};  // mean linear RGB inside the photo's feather mask
   double mean_colour_de2000 = 0;   // ΔE 2000 between those two means
   double pixel_de2000 = 0;         // mean over the photo's mask of the pixel-by-pixel ΔE 2000
+  // Pearson correlation of the photo's and the render's luminance over the photo's
+  // mask shrunk by 3 pixels (its blurred rim left out): the pattern (bars, the shaft,
+  // light and shade) whatever the overall colour; 0 where the mask has no inside.
+  double luminance_correlation = 0;
 };
 
 struct RenderFidelity {
   VaneFidelity feather, left, right;
   double backdrop_de2000 = 0;  // between the render's backdrop colour and the photo's
+  // The render's feather-mask perimeter over the photo's: mask pixels with a
+  // 4-neighbour outside the mask (or the compared region), counted in each. 1 for
+  // an outline as smooth as the photo's; a saw-tooth edge raises it.
+  double perimeter_ratio = 0;
 };
+
+// The pixels of `mask` (compared ones only) with a 4-neighbour outside it.
+long mask_perimeter(const std::vector<char>& mask, const PanelRegions& regions);
 
 // `render` against `photo` (both measured with the same settings and regions).
 RenderFidelity compare_panels(const MeasuredPanel& photo, const MeasuredPanel& render, const PanelRegions& regions);
