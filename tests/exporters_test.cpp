@@ -142,7 +142,7 @@ float drawn_radius(const Feather& f, const Curve& c, std::size_t k) {
   if (c.points.size() <= 4 || !(std::isfinite(kBarbTipTaper * total) && total > 0)) return w / 2;
   const float t = std::clamp((total - before) / (kBarbTipTaper * total), 0.0f, 1.0f);
   const float own = std::min(p.radius, w / 2);
-  return own + t * t * (3 - 2 * t) * (w / 2 - own);
+  return t >= 1 ? w / 2 : std::min(own + t * t * (3 - 2 * t) * (w / 2 - own), w / 2);
 }
 
 glm::vec3 vec3_of(const std::vector<std::string>& v, std::size_t at = 0) {

@@ -276,14 +276,15 @@ TEST(RenderMaterial, CardResponseModelsAClosedVane) {
       const float white = r.seen(0, CardResponse::kNodes - 1, c);
       EXPECT_NEAR(correct(glm::vec3(white)).albedo.x, 1.0f, 1e-4f) << c;
       EXPECT_EQ(correct(glm::vec3(white)).medulla_sigma_s, 0.0f) << c;
-      const FibreColour paler = correct(glm::vec3(white * 1.05f)), palest = correct(glm::vec3(white * 100.0f));
+      EXPECT_EQ(correct(glm::vec3(white * 1.05f)).medulla_sigma_s, 0.0f) << c;  // within the margin: a clear fibre
+      const FibreColour paler = correct(glm::vec3(white * 1.15f)), palest = correct(glm::vec3(white * 100.0f));
       bool medulla_shows_more = false;  // on a white card a substructure vane's medulla may not
       for (int j = 1; j < CardResponse::kRows; ++j) medulla_shows_more |= r.seen(j, CardResponse::kNodes - 1, c) > white;
       if (medulla_shows_more) {
         EXPECT_GT(palest.medulla_sigma_s, 0.0f) << to_string(mode) << ", card " << c;
         EXPECT_GE(palest.medulla_sigma_s, paler.medulla_sigma_s) << to_string(mode) << ", card " << c;
       }
-      if (r.seen(CardResponse::kRows - 1, CardResponse::kNodes - 1, c) > 1.05f * white)
+      if (r.seen(CardResponse::kRows - 1, CardResponse::kNodes - 1, c) > 1.15f * white)
         EXPECT_GT(paler.medulla_sigma_s, 0.0f) << to_string(mode) << ", card " << c;
       EXPECT_TRUE(palest.clamped);
       EXPECT_FALSE(correct(glm::vec3(white * 0.9f)).clamped);

@@ -65,6 +65,8 @@ void validate_feather(const Feather& f) {
   };
   if (!finite3(f.albedo.color) || f.albedo.color.x < 0 || f.albedo.color.y < 0 || f.albedo.color.z < 0)
     fail("albedo colour must be finite and non-negative");
+  if (!(f.albedo.scale >= 1 && f.albedo.scale <= kMaxAlbedoScale))
+    fail("albedo scale must lie in [1, 8] (a texel times it is the albedo)");
   if (!(f.medulla.ratio >= 0 && f.medulla.ratio < 1))
     fail("medulla ratio must lie in [0, 1) (the core's radius over the fibre's)");
   if (!finite3(f.medulla.sigma_s) || !finite3(f.medulla.sigma_a) || f.medulla.sigma_s.x < 0 || f.medulla.sigma_s.y < 0 ||
@@ -153,7 +155,7 @@ class Reader {
   std::vector<Token> tok_;
 
   // Records seen (line numbers, 0 = not yet), to reject duplicates and check required ones.
-  int medulla_line_ = 0, units_line_ = 0, source_line_ = 0, seed_line_ = 0, color_line_ = 0, texture_line_ = 0, left_line_ = 0,
+  int scale_line_ = 0, medulla_line_ = 0, units_line_ = 0, source_line_ = 0, seed_line_ = 0, color_line_ = 0, texture_line_ = 0, left_line_ = 0,
       right_line_ = 0, curves_line_ = 0, shaft_line_ = 0, last_curve_line_ = 0;
   std::uint64_t declared_curves_ = 0;
   bool in_curves_ = false;
@@ -293,7 +295,7 @@ void Reader::parse_header_line() {
 }
 
 void Reader::parse_albedo(Feather& f) {
-  if (tok_.size() < 2) fail(end_column(), "albedo: expected 'color' or 'texture'");
+  if (tok_.size() < 2) fail(end_column(), "albedo: expected 'color', 'texture' or 'scale'");
   const Token& kind = tok_[1];
   if (kind.text == "color") {
     if (color_line_)
@@ -316,8 +318,14 @@ void Reader::parse_albedo(Feather& f) {
       fail(tok_[5], "albedo texture: XMAX must be greater than XMIN");
     if (!(f.albedo.rect_min.y < f.albedo.rect_max.y))
       fail(tok_[6], "albedo texture: YMAX must be greater than YMIN");
+  } else if (kind.text == "scale") {
+    if (scale_line_)
+      fail(tok_[0], "second 'albedo scale' record (first on line " + std::to_string(scale_line_) + ")");
+    scale_line_ = line_no_;
+    expect_count(3, "albedo scale S");
+    f.albedo.scale = ranged_float(tok_[2], "albedo scale", 1.0f, float(kMaxAlbedoScale), "[1, 8]");
   } else {
-    fail(kind, "albedo: expected 'color' or 'texture', found '" + std::string(kind.text) + "'");
+    fail(kind, "albedo: expected 'color', 'texture' or 'scale', found '" + std::string(kind.text) + "'");
   }
 }
 
@@ -602,6 +610,11 @@ std::string format_fcurves(const Feather& f) {
       out += ' ';
       append_float(out, v);
     }
+    out += '\n';
+  }
+  if (f.albedo.scale != 1.0f) {
+    out += "albedo scale ";
+    append_float(out, f.albedo.scale);
     out += '\n';
   }
   if (f.medulla.ratio > 0) {

@@ -92,7 +92,7 @@ std::vector<float> render_radii(const Feather& f, const Curve& c) {
     const float t = std::clamp(to_tip / taper, 0.0f, 1.0f);
     const float k = t * t * (3.0f - 2.0f * t);  // smoothstep: 0 at the tip, 1 from kBarbTipTaper on
     const float own = std::min(c.points[i].radius, 0.5f * w);
-    r[i] = own + k * (0.5f * w - own);
+    r[i] = t >= 1.0f ? 0.5f * w : std::min(own + k * (0.5f * w - own), 0.5f * w);
   }
   return r;
 }

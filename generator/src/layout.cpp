@@ -1,4 +1,5 @@
 // layout.json reader and writer (format: docs/layout-format.md).
+#include "plumage/common/feather.h"
 #include "plumage/generator/analysis/layout.h"
 
 #include <algorithm>
@@ -217,6 +218,9 @@ struct Reader {
     f.albedo.height_px = integer(member(al, ap, "height_px"), ap + "/height_px", 1, 1 << 16);
     f.albedo.origin_mm = point(member(al, ap, "origin_mm"), ap + "/origin_mm");
     f.albedo.mm_per_texel = number(member(al, ap, "mm_per_texel"), ap + "/mm_per_texel", 1e-9);
+    if (al.contains("scale")) {
+      f.albedo.scale = number(al.at("scale"), ap + "/scale", 1.0, kMaxAlbedoScale);
+    }
     f.touches_border = boolean(member(j, p, "touches_border"), p + "/touches_border");
     const json& w = member(j, p, "warnings");
     if (!w.is_array()) fail(p + "/warnings", "expected an array of strings");
@@ -282,6 +286,7 @@ std::string layout_to_json(const Layout& L) {
                                {"mm_per_texel", f.albedo.mm_per_texel}}},
                              {"touches_border", f.touches_border},
                              {"warnings", f.warnings}});
+    if (f.albedo.scale != 1.0) feathers.back()["albedo"]["scale"] = f.albedo.scale;  // only a feather paler than its paper
   }
   ojson skipped = ojson::array();
   for (const SkippedRegion& s : L.skipped)

@@ -668,6 +668,7 @@ Feather layout_to_feather(const FeatherLayout& f, std::uint64_t seed, const std:
     const double s = f.albedo.mm_per_texel;
     feather.albedo.rect_min = glm::vec2(f.albedo.origin_mm.x, f.albedo.origin_mm.y - f.albedo.height_px * s);
     feather.albedo.rect_max = glm::vec2(f.albedo.origin_mm.x + f.albedo.width_px * s, f.albedo.origin_mm.y);
+    feather.albedo.scale = float(f.albedo.scale);
   }
   for (VaneSide side : {VaneSide::Left, VaneSide::Right}) close_vane(feather, side);
   feather.provenance.source = "layout:" + source;
@@ -707,7 +708,7 @@ Feather layout_to_feather_with_albedo(const FeatherLayout& layout, std::uint64_t
   const Image filled = albedo_for_render(read_image(albedo_dir / layout.albedo.file), &mean);
   if (outputs) write_image(*outputs, texture_path, filled);
   else write_image(texture_path, filled);
-  feather.albedo.color = mean;
+  feather.albedo.color = mean * feather.albedo.scale;
   feather.albedo.texture = std::filesystem::absolute(texture_path)
                                .lexically_proximate(std::filesystem::absolute(fcurves_dir))
                                .generic_string();

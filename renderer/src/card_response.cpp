@@ -236,6 +236,12 @@ CardCorrection::CardCorrection(const CardResponse& r, const glm::vec3& card) {
 
 namespace {
 
+// How much paler than white clear fibres a texel's brightest channel must be before it
+// gets a medulla: a saturated pale colour (the pink feather's red, 4 % beyond them on
+// white paper) keeps the clear fibre, whose albedo steers the other channels finely,
+// where the medulla rows' steep first step (A = 0 to 0.02) would not.
+constexpr float kMedullaMargin = 1.1f;
+
 // The albedo at which a row's seen / card (linear between its nodes) equals s:
 // 0 at or below the first node, 1 above the last.
 template <class Seen>
@@ -258,7 +264,7 @@ FibreColour CardCorrection::operator()(const glm::vec3& seen) const {
   const float top = std::max({s.x, s.y, s.z});
   constexpr int last = CardResponse::kNodes - 1;
   FibreColour out;
-  if (top <= seen_[0][last]) {
+  if (top <= kMedullaMargin * seen_[0][last]) {
     // A clear fibre. Inverted on the luminance and applied to every channel as one
     // factor: per channel, a dark texel whose blue lies under what black fibres show
     // but whose red does not would turn a brown vane yellow.

@@ -17,6 +17,7 @@ AlbedoMap::AlbedoMap(const Albedo& albedo, const std::filesystem::path& base_dir
   if (!(size.x > 0 && size.y > 0))
     throw Error(Location{path.string()}, "the albedo texture's rect is empty (rect_max must exceed rect_min in x and y)");
   image_ = read_image(path);
+  scale_ = albedo.scale;
   rect_min_ = albedo.rect_min;
   rect_max_ = albedo.rect_max;
 }
@@ -32,7 +33,7 @@ glm::vec3 AlbedoMap::at(const glm::vec2& xy) const {
   const float tx = std::clamp(fx - float(x0), 0.0f, 1.0f), ty = std::clamp(fy - float(y0), 0.0f, 1.0f);
   const glm::vec3 top = glm::mix(image_.rgb(x0, y0), image_.rgb(x1, y0), tx);
   const glm::vec3 bottom = glm::mix(image_.rgb(x0, y1), image_.rgb(x1, y1), tx);
-  return glm::clamp(glm::mix(top, bottom, ty), glm::vec3(0.0f), glm::vec3(1.0f));
+  return glm::clamp(glm::mix(top, bottom, ty), glm::vec3(0.0f), glm::vec3(1.0f)) * scale_;
 }
 
 FibreMaterial::FibreMaterial(const HairParams& params, AlbedoMap albedo, AlbedoMapping mapping)

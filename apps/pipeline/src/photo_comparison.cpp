@@ -103,9 +103,10 @@ PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, con
     std::filesystem::path tex = feather.albedo.texture;
     if (tex.is_relative()) tex = view.base_dir / tex;
     const Image texture = read_image(tex);
-    const float scale = view.photo_texture_absolute
-                            ? 1.0f / std::max(luminance(glm::max(*view.photo_card, glm::vec3(0.0f))), 1e-3f)
-                            : 1.0f;
+    const float scale = feather.albedo.scale *
+                        (view.photo_texture_absolute
+                             ? 1.0f / std::max(luminance(glm::max(*view.photo_card, glm::vec3(0.0f))), 1e-3f)
+                             : 1.0f);
     for (ShadingMode mode : {ShadingMode::Hair, ShadingMode::Substructure})
       c.inversion.push_back(count_inversion(texture, CardCorrection(card_response(mode), *view.photo_card), scale));
   }
@@ -124,7 +125,7 @@ InversionCounts count_inversion(const Image& texture, const CardCorrection& corr
   InversionCounts n;
   for (int y = 0; y < texture.height; ++y)
     for (int x = 0; x < texture.width; ++x) {
-      const FibreColour fc = correction(glm::clamp(texture.rgb(x, y), glm::vec3(0.0f), glm::vec3(1.0f)) * texel_scale);
+      const FibreColour fc = correction(glm::clamp(texture.rgb(x, y), glm::vec3(0.0f), glm::vec3(1.0f)) * texel_scale);  // as AlbedoMap::at
       ++n.texels;
       n.medulla += fc.medulla_sigma_s > 0.0f;
       n.clamped += fc.clamped;

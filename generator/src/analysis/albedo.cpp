@@ -5,6 +5,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "plumage/common/feather.h"
 #include "plumage/common/image.h"
 #include "steps.h"
 
@@ -100,12 +101,31 @@ AlbedoResult extract_albedo(const cv::Mat& bgr, const Component& f, const glm::d
   for (int c = 0; c < 3; ++c)
     inv_bg[c] =
         light_background ? 1.0f / std::max(srgb_to_linear(float(bg[2 - c]) / 255.0f), 1e-3f) : 1.0f;
+  // On a light backdrop a feather paler than the paper has texels above 1: the
+  // texture holds them divided by `scale`, the 99th percentile of the feather's
+  // brightest channel (so a glint on the quill does not set it), at most
+  // kMaxAlbedoScale; 1 when the feather is not paler than the paper.
+  if (light_background) {
+    std::vector<float> tops;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x)
+        if (mask.at<uchar>(y, x) == 255) {
+          const cv::Vec3b p = tex.at<cv::Vec3b>(y, x);
+          tops.push_back(std::max({lut[p[2]] * inv_bg[0], lut[p[1]] * inv_bg[1], lut[p[0]] * inv_bg[2]}));
+        }
+    if (!tops.empty()) {
+      const std::size_t k = tops.size() * 99 / 100;
+      std::nth_element(tops.begin(), tops.begin() + k, tops.end());
+      out.scale = std::clamp(double(tops[k]), 1.0, kMaxAlbedoScale);
+    }
+  }
+  const float inv_scale = float(1.0 / out.scale);
   out.rgba.create(H, W, CV_32FC4);
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const cv::Vec3b p = tex.at<cv::Vec3b>(y, x);
       cv::Vec4f& q = out.rgba.at<cv::Vec4f>(y, x);
-      for (int c = 0; c < 3; ++c) q[c] = std::min(lut[p[2 - c]] * inv_bg[c], 1.0f);  // BGR -> RGB
+      for (int c = 0; c < 3; ++c) q[c] = std::min(lut[p[2 - c]] * inv_bg[c] * inv_scale, 1.0f);  // BGR -> RGB
       q[3] = mask.at<uchar>(y, x) / 255.0f;
     }
   return out;

@@ -304,6 +304,7 @@ void analyze_feather(const Photo& photo, const Segmentation& seg, const Componen
   f.albedo.height_px = al.rgba.rows;
   f.albedo.origin_mm = al.origin_mm;
   f.albedo.mm_per_texel = al.mm_per_texel;
+  f.albedo.scale = al.scale;
   Image tex(al.rgba.cols, al.rgba.rows, 4);
   std::memcpy(tex.pixels.data(), al.rgba.ptr<float>(0), tex.pixels.size() * sizeof(float));
   out.albedo.push_back(std::move(tex));

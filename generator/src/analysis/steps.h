@@ -158,9 +158,10 @@ void find_downy_base(SideMeasure& side, const std::vector<double>& t, double per
 // albedo.cpp ------------------------------------------------------------------
 // Texture in feather coordinates, shaft painted out; linear RGBA.
 struct AlbedoResult {
-  cv::Mat rgba;  // CV_32FC4 linear, alpha = mask
+  cv::Mat rgba;  // CV_32FC4 linear, alpha = mask; times `scale` the albedo
   glm::dvec2 origin_mm{0.0};
   double mm_per_texel = 0;
+  double scale = 1.0;  // > 1 where the feather is paler than the paper (AlbedoTexture::scale)
 };
 AlbedoResult extract_albedo(const cv::Mat& bgr, const Component& feather,
                             const glm::dmat3x2& image_from_feather_work, const BSpline2& shaft_mm,

@@ -65,12 +65,17 @@ std::optional<SubstructureProblem> substructure_problem(const SubstructureParams
 // period across the ribbon vanishes.
 inline constexpr float kMinBarbuleElevationDeg = 1.0f;
 
+// The palest a feather's albedo texture may be over the paper it was photographed
+// on: Albedo::scale and the layout's AlbedoTexture::scale lie in [1, this].
+inline constexpr double kMaxAlbedoScale = 8.0;
+
 // Where the albedo comes from: a constant linear RGB colour, or a texture image
 // mapped onto the feather's XY plane by an axis-aligned rectangle (mm).
 struct Albedo {
   glm::vec3 color{0.5f};                 // used when texture is empty, and as fallback
   std::string texture;                   // path, relative to the curve file's folder
   glm::vec2 rect_min{0}, rect_max{0};    // texture (0,0) at rect_min (x, y) ... (1,1) at rect_max
+  float scale = 1.0f;                    // a texel times scale is the albedo (> 1: paler than the paper)
   bool operator==(const Albedo&) const = default;
 };
 

@@ -72,7 +72,7 @@ struct FibreColour {
 
 // The fibre that makes such a vane over a card of albedo `card` look `seen` times
 // the card (docs/hair-bcsdf.md, "Colours inverted through the renderer"):
-// * while no channel is brighter than white clear fibres show (row 0's A = 1), a
+// * while no channel is more than 10 % brighter than white clear fibres show (row 0's A = 1), a
 //   clear fibre: on the luminances, the A at which row 0's seen / card, linear
 //   between its nodes, equals seen (0 below what black fibres show), and `seen`
 //   scaled by A / its luminance so that the hue stays; clamped to [0, 1];

@@ -24,13 +24,15 @@ class AlbedoMap {
   explicit AlbedoMap(const glm::vec3& constant = glm::vec3(0.5f));
 
   bool textured() const { return !image_.empty(); }
-  // Linear RGB at a point (the texture is clamped at its edges; bilinear).
+  // Linear RGB at a point (the texture is clamped at its edges; bilinear), times the
+  // albedo's scale: in [0, scale].
   glm::vec3 at(const glm::vec2& xy) const;
 
  private:
   glm::vec3 constant_;
   Image image_;
   glm::vec2 rect_min_{0}, rect_max_{1};
+  float scale_ = 1.0f;  // Albedo::scale
 };
 
 // How an albedo becomes an absorption coefficient (docs/hair-bcsdf.md).

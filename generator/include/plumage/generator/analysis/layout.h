@@ -45,6 +45,9 @@ struct AlbedoTexture {
   int width_px = 0, height_px = 0;
   glm::dvec2 origin_mm{0.0};  // feather coordinates of the texture's top-left corner
   double mm_per_texel = 0.0;  // texel (i,j) centre: origin + ((i+.5)s, -(j+.5)s)
+  // A texel times `scale` is the albedo: above 1 where a feather on a light backdrop
+  // is paler than the paper (the texture stores [0, 1]); in [1, kMaxAlbedoScale].
+  double scale = 1.0;
 };
 
 // The most stations one feather's layout may have (the reader refuses more).
