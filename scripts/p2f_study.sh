@@ -2,7 +2,8 @@
 # The photo-to-feather fidelity study (issue 12): `plumage photo-to-feather` at its
 # defaults on feathers picked across every photo in ../shared/photos (the single
 # pink feather and feathers from each sheet). Writes the fidelity table (silhouette
-# IoU and CIE dE2000 per render panel, whole feather and per vane; timings) into
+# IoU, CIE dE2000, luminance correlation and perimeter ratio per render panel, whole
+# feather and per vane; the share of texels given a medulla; timings) into
 # docs/analysis.md between the p2f-study markers, the comparisons as downscaled
 # JPEGs to docs/images/p2f-<photo>-f<K>.jpg, and, for the pink photo, the render
 # noise (a second run with --seed 2; the generated feather does not depend on the
@@ -32,6 +33,8 @@ cases=(
   "european-robin-feather-sheet.jpg 41 upright body feather"
   "peregrine-falcon-feather-sheet.jpg 13 largest on the sheet"
   "peregrine-falcon-feather-sheet.jpg 10 from the same row"
+  "blue-jay-feather-sheet.jpg 16 white downy feather on the grey card"
+  "blue-jay-feather-sheet.jpg 25 white downy plume on the grey card"
 )
 
 grid_of() {
@@ -68,8 +71,8 @@ fi
 python3 - "$out" "$(nproc)" "$(cat /proc/loadavg)" <<'PY'
 import sys, os, json, glob, re, math
 out, cores, load = sys.argv[1], sys.argv[2], sys.argv[3]
-rows = ["| photo, feather | why | panel px | silhouette IoU hair (L / R) | silhouette IoU substructure (L / R) | colour ΔE00 hair (L / R) | colour ΔE00 substructure (L / R) | pixel ΔE00 hair / substructure | card ΔE00 hair / substructure | wall s, CPU s |",
-        "|---|---|---|---|---|---|---|---|---|---|"]
+rows = ["| photo, feather | why | panel px | silhouette IoU hair (L / R) | silhouette IoU substructure (L / R) | colour ΔE00 hair (L / R) | colour ΔE00 substructure (L / R) | pixel ΔE00 hair / substructure | luminance correlation hair / substructure | perimeter ratio hair / substructure | texels with a medulla hair / substructure | card ΔE00 hair / substructure | wall s, CPU s |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
 for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
     tag = os.path.basename(rc_file)[:-3]
     why = open(os.path.join(out, tag + ".why")).read().strip()
@@ -78,7 +81,7 @@ for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
     label = f"{m.group(1)}, {m.group(2)}" if m else f"{tag}, 1 (single)"
     if rc != "0":
         log = open(os.path.join(out, tag + ".log")).read().strip().splitlines()
-        rows.append(f"| {label} | {why} | — | — | — | — | — | — | — | exit {rc}: {log[-1] if log else ''} |")
+        rows.append(f"| {label} | {why} | — | — | — | — | — | — | — | — | — | — | exit {rc}: {log[-1] if log else ''} |")
         continue
     s = json.load(open(os.path.join(out, tag, "summary.json")))
     f = s["fidelity"]
@@ -87,9 +90,14 @@ for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
         p = f[panel]
         return f"{fmt.format(p['feather'][key])} ({fmt.format(p['left'][key])} / {fmt.format(p['right'][key])})"
     h, b = f["hair"], f["substructure"]
+    def medulla(p):
+        n = p.get("inversion")
+        return f"{100.0 * n['medulla'] / n['texels']:.0f} %" if n and n["texels"] else "—"
     rows.append(f"| {label} | {why} | {f['panel']['width']}×{f['panel']['height']} | {tri('hair', 'silhouette_iou', '{:.3f}')} | "
                 f"{tri('substructure', 'silhouette_iou', '{:.3f}')} | {tri('hair', 'mean_colour_de2000', '{:.1f}')} | "
                 f"{tri('substructure', 'mean_colour_de2000', '{:.1f}')} | {h['feather']['pixel_de2000']:.1f} / {b['feather']['pixel_de2000']:.1f} | "
+                f"{h['feather']['luminance_correlation']:.2f} / {b['feather']['luminance_correlation']:.2f} | "
+                f"{h['perimeter_ratio']:.2f} / {b['perimeter_ratio']:.2f} | {medulla(h)} / {medulla(b)} | "
                 f"{h['backdrop_de2000']:.1f} / {b['backdrop_de2000']:.1f} | {wall:.1f}, {user + sys_:.1f} |")
 text = "\n".join(rows) + "\n"
 noise = os.path.join(out, "noise.txt")

@@ -311,17 +311,6 @@ TEST(RenderMaterial, CardResponseModelsAClosedVane) {
   EXPECT_NEAR(out.y / out.z, brown.y / brown.z, 1e-4f);
 }
 
-TEST(RenderMaterial, MedullaExperiment) {
-  if (!std::getenv("PLUMAGE_MEDULLA_EXPERIMENT")) GTEST_SKIP();
-  for (ShadingMode mode : {ShadingMode::Hair, ShadingMode::Substructure})
-    for (float card : {0.02f, 0.25f, 0.9f})
-      for (float a : {1.0f, 0.5f})
-        for (float sig : {0.0f, 0.5f, 2.0f, 8.0f, 32.0f, 128.0f}) {
-          const float seen = closed_vane_over_card(mode, glm::vec3(a), 1.3f, card, Correction::None, Light::Dome, sig).y;
-          std::printf("%s card %.2f A %.2f sigma_s %6.1f seen/c %.4f seen %.4f\n", to_string(mode), card, a, sig, seen, seen * card);
-        }
-}
-
 TEST(RenderMaterial, CardResponseFit) {
   // The fit behind card_response.h's table (scripts/fit_card_response.sh): the
   // closed vane over cards 0.9, 0.5, 0.25 and 0.1 (and, for the rows with a medulla,
