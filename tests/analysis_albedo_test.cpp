@@ -79,5 +79,32 @@ TEST_P(AnalysisAlbedo, ANarrowVaneBesideAThickQuillKeepsItsColour) {
   EXPECT_LT(worst, 0.12);
 }
 
+TEST(AnalysisShaftColour, TheRachisKeepsItsOwnColour) {
+  // A red-brown rachis on a pink vane over white paper: the layout's shaft_rgb is the
+  // rachis's colour over the paper (within 0.06 per channel: blur and noise), not the
+  // vane's painted over it; with the rachis drawn in the vane's colour it is the vane's.
+  for (double contrast : {1.0, 0.0}) {
+    SyntheticFeather F;
+    F.shaft_width = 14;
+    F.rachis_contrast = contrast;
+    F.noise = 0.005;
+    const fs::path dir = fs::temp_directory_path() / ("plumage_shaft_rgb_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const fs::path photo = dir / "feather.png";
+    write_image(photo, F.draw());
+    AnalyzeOptions opt;
+    opt.mm_per_px = 0.1;
+    const PhotoAnalysis A = analyze_photo(photo, opt);
+    fs::remove_all(dir);
+    ASSERT_EQ(A.layout.feathers.size(), 1u);
+    const auto& rgb = A.layout.feathers[0].albedo.shaft_rgb;
+    ASSERT_TRUE(rgb.has_value()) << "contrast " << contrast;
+    const glm::vec3 vane(0.80f, 0.50f, 0.48f), drawn = glm::mix(vane, glm::vec3(0.55f, 0.18f, 0.10f), float(contrast));
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR((*rgb)[c], srgb_to_linear(drawn[c]) / srgb_to_linear(0.96f), 0.06) << "contrast " << contrast << " channel " << c;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(BothSides, AnalysisAlbedo,
                          ::testing::Values(NarrowVaneCase{true, -90}, NarrowVaneCase{false, -70}));

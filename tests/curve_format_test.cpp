@@ -125,7 +125,7 @@ std::vector<Malformed> malformed_files() {
       {"string as record name", insert_before(5, "\"albedo\" color 1 1 1"), 5, 1,
        "expected a record name, found a string"},
       {"albedo kind unknown", with_line(5, "albedo colour 1 1 1"), 5, 8,
-       "albedo: expected 'color', 'texture' or 'scale', found 'colour'"},
+       "albedo: expected 'color', 'texture', 'shaft' or 'scale', found 'colour'"},
       {"albedo negative", with_line(5, "albedo color 0.5 -0.1 0.3"), 5, 18,
        "albedo colour: must not be negative, found '-0.1'"},
       {"albedo too few numbers", with_line(5, "albedo color 0.5 0.4"), 5, 21,

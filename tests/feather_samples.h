@@ -124,6 +124,7 @@ inline Feather random_feather(std::mt19937_64& rng) {
     f.albedo.rect_max = {std::max(a, b), std::max(a, b)};
   }
   if (rng() % 2) f.albedo.scale = 1.0f + 7.0f * unit_interval(rng);  // paler than the paper: [1, 8]
+  if (rng() % 2) f.albedo.shaft = glm::vec3(extreme_nonneg(rng), extreme_nonneg(rng), extreme_nonneg(rng));
   if (rng() % 2) {  // a medulla: ratio in [0, 1), coefficients anywhere >= 0
     f.medulla.ratio = std::min(unit_interval(rng), std::nextafter(1.0f, 0.0f));
     f.medulla.sigma_s = {extreme_nonneg(rng), extreme_nonneg(rng), extreme_nonneg(rng)};

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "chi_square.h"
+#include "fibre_sampling.h"
 #include "hair_terms.h"
 #include "plumage/common/constants.h"
 #include "plumage/common/error.h"
@@ -21,43 +22,10 @@ namespace {
 
 const float kBetas[] = {0.1f, 0.3f, 0.5f, 0.7f, 0.9f};
 
-// splitmix64: tiny, fast and the same on every platform (std distributions are not).
-struct Rng {
-  uint64_t s;
-  explicit Rng(uint64_t seed) : s(seed) {}
-  uint64_t bits() {
-    uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return double(bits() >> 11) * 0x1.0p-53; }     // [0,1)
-  float uniformf() { return float(bits() >> 40) * 0x1.0p-24f; }     // [0,1)
-  double range(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-};
-
-// The sphere parameterised by x = sin(theta) (the tangent component) and phi: equal
-// areas in (x, phi) are equal solid angles, d omega = dx dphi.
-glm::vec3 direction(double x, double phi) {
-  const double c = std::sqrt(std::max(0.0, 1.0 - x * x));
-  return glm::vec3(float(x), float(c * std::sin(phi)), float(c * std::cos(phi)));
-}
-
-glm::vec3 uniform_direction(Rng& rng) { return direction(rng.range(-1, 1), rng.range(-kPi, kPi)); }
-
-// Jittered-stratified uniform estimate of the integral over the sphere of g(wi):
-// n x n equal-area cells, one uniform point in each.
-template <class G>
-glm::dvec3 stratified_sphere_integral(int n, Rng& rng, G&& g) {
-  glm::dvec3 sum(0.0);
-  for (int a = 0; a < n; ++a)
-    for (int b = 0; b < n; ++b) {
-      const double x = -1.0 + 2.0 * (a + rng.uniform()) / n;
-      const double phi = -kPi + 2.0 * kPi * (b + rng.uniform()) / n;
-      sum += glm::dvec3(g(direction(x, phi)));
-    }
-  return sum * (4.0 * kPi / (double(n) * n));
-}
+using test::direction;
+using test::Rng;
+using test::stratified_sphere_integral;
+using test::uniform_direction;
 
 HairParams params(float beta_m, float beta_n, glm::vec3 sigma_a = glm::vec3(0.0f), float alpha_deg = 2.0f) {
   HairParams p;
@@ -292,34 +260,16 @@ TEST(HairBCSDF, SamplingMatchesPdfChiSquare) {
                         {0.25f, 0.4f, glm::vec3(0.2f, 0.6f, 1.5f)}};
   const int ncases = 5;
   const double alpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / ncases);
-  const int nx = 24, nphi = 48, sub = 8, nsamples = 200000;
+  const int nsamples = 200000;
   Rng rng(4);
   for (const Case& c : cases) {
     const HairParams p = params(c.bm, c.bn, c.sigma_a, 3.0f);
     const float h = float(rng.range(-1, 1));
     const glm::vec3 wo = uniform_direction(rng);
     const HairBCSDF bcsdf(p, h);
-
-    std::vector<double> expected(nx * nphi, 0.0), observed(nx * nphi, 0.0);
-    const double dx = 2.0 / nx, dphi = 2 * kPi / nphi;
-    for (int a = 0; a < nx; ++a)
-      for (int b = 0; b < nphi; ++b) {
-        double sum = 0;
-        for (int i = 0; i < sub; ++i)
-          for (int j = 0; j < sub; ++j)
-            sum += bcsdf.pdf(wo, direction(-1 + (a + (i + 0.5) / sub) * dx, -kPi + (b + (j + 0.5) / sub) * dphi));
-        expected[a * nphi + b] = sum * dx * dphi / (sub * sub) * nsamples;
-      }
-    for (int k = 0; k < nsamples; ++k) {
-      const auto s = bcsdf.sample(wo, {rng.uniformf(), rng.uniformf()}, {rng.uniformf(), rng.uniformf()});
-      ASSERT_TRUE(s.has_value());
-      const double x = std::clamp(double(s->wi.x), -1.0, 1.0);
-      const double phi = std::atan2(double(s->wi.y), double(s->wi.z));
-      const int a = std::min(nx - 1, int((x + 1) / dx));
-      const int b = std::clamp(int((phi + kPi) / dphi), 0, nphi - 1);
-      observed[a * nphi + b] += 1;
-    }
-    const test::ChiSquare cs = test::pearson_pooled(expected, observed);
+    bool sampled = false;
+    const test::ChiSquare cs = test::sampler_chi_square(bcsdf, wo, rng, nsamples, &sampled);
+    ASSERT_TRUE(sampled);
     EXPECT_NEAR(cs.total_expected / nsamples, 1.0, 2e-3) << "pdf does not integrate to 1: " << describe(p, h, wo);
     EXPECT_GT(cs.pvalue, alpha) << "chi2=" << cs.chi2 << " dof=" << cs.dof << " " << describe(p, h, wo);
   }

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "chi_square.h"
+#include "fibre_sampling.h"
 #include "medulla_terms.h"
 #include "plumage/common/constants.h"
 #include "plumage/common/error.h"
@@ -21,34 +22,13 @@ using namespace plumage;
 
 namespace {
 
-struct Rng {  // splitmix64, as in hair_bcsdf_test.cpp
-  uint64_t s;
-  explicit Rng(uint64_t seed) : s(seed) {}
-  uint64_t bits() {
-    uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return double(bits() >> 11) * 0x1.0p-53; }
-  float uniformf() { return float(bits() >> 40) * 0x1.0p-24f; }
-  double range(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-};
+using test::direction;
+using test::Rng;
+using test::uniform_direction;
 
-glm::vec3 direction(double x, double phi) {
-  const double c = std::sqrt(std::max(0.0, 1.0 - x * x));
-  return glm::vec3(float(x), float(c * std::sin(phi)), float(c * std::cos(phi)));
-}
-glm::vec3 uniform_direction(Rng& rng) { return direction(rng.range(-1, 1), rng.range(-kPi, kPi)); }
-
-// n x n jittered equal-area cells of (sin theta, phi): the integral over the sphere of g.
 template <class G>
 glm::dvec3 sphere_integral(int n, Rng& rng, G&& g) {
-  glm::dvec3 sum(0.0);
-  for (int a = 0; a < n; ++a)
-    for (int b = 0; b < n; ++b)
-      sum += glm::dvec3(g(direction(-1.0 + 2.0 * (a + rng.uniform()) / n, -kPi + 2.0 * kPi * (b + rng.uniform()) / n)));
-  return sum * (4.0 * kPi / (double(n) * n));
+  return test::stratified_sphere_integral(n, rng, std::forward<G>(g));
 }
 
 HairParams with_medulla(float k, glm::vec3 sigma_s, glm::vec3 sigma_a_core = glm::vec3(0.0f),
@@ -172,31 +152,16 @@ TEST(Medulla, SamplingMatchesPdfChiSquare) {
                         {0.4f, glm::vec3(1.0f, 3.0f, 9.0f), glm::vec3(0.0f)},
                         {0.8f, glm::vec3(4.0f), glm::vec3(0.3f, 0.8f, 1.5f)}};
   const double alpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / 4);
-  const int nx = 24, nphi = 48, sub = 8, nsamples = 200000;
+  const int nsamples = 200000;
   Rng rng(36);
   for (const Case& c : cases) {
     const HairParams p = with_medulla(c.k, c.sigma_s, glm::vec3(0.0f), c.sigma_a);
     const float h = float(rng.range(-1, 1));
     const glm::vec3 wo = uniform_direction(rng);
     const HairBCSDF bcsdf(p, h);
-    std::vector<double> expected(nx * nphi, 0.0), observed(nx * nphi, 0.0);
-    const double dx = 2.0 / nx, dphi = 2 * kPi / nphi;
-    for (int a = 0; a < nx; ++a)
-      for (int b = 0; b < nphi; ++b) {
-        double sum = 0;
-        for (int i = 0; i < sub; ++i)
-          for (int j = 0; j < sub; ++j)
-            sum += bcsdf.pdf(wo, direction(-1 + (a + (i + 0.5) / sub) * dx, -kPi + (b + (j + 0.5) / sub) * dphi));
-        expected[a * nphi + b] = sum * dx * dphi / (sub * sub) * nsamples;
-      }
-    for (int k = 0; k < nsamples; ++k) {
-      const auto s = bcsdf.sample(wo, {rng.uniformf(), rng.uniformf()}, {rng.uniformf(), rng.uniformf()});
-      ASSERT_TRUE(s.has_value());
-      const double x = std::clamp(double(s->wi.x), -1.0, 1.0);
-      const double phi = std::atan2(double(s->wi.y), double(s->wi.z));
-      observed[std::min(nx - 1, int((x + 1) / dx)) * nphi + std::clamp(int((phi + kPi) / dphi), 0, nphi - 1)] += 1;
-    }
-    const test::ChiSquare cs = test::pearson_pooled(expected, observed);
+    bool sampled = false;
+    const test::ChiSquare cs = test::sampler_chi_square(bcsdf, wo, rng, nsamples, &sampled);
+    ASSERT_TRUE(sampled);
     EXPECT_NEAR(cs.total_expected / nsamples, 1.0, 2e-3) << describe(p, h, wo);
     EXPECT_GT(cs.pvalue, alpha) << "chi2=" << cs.chi2 << " dof=" << cs.dof << " " << describe(p, h, wo);
   }

@@ -397,3 +397,47 @@ TEST(RenderMaterial, RibbonLayersCountTheBarbsOverAPoint) {
   hit.kind = HitKind::Shaft;
   EXPECT_EQ(textured.ribbon_layers(hit), 1);
 }
+
+TEST(RenderMaterial, TheShaftTakesItsOwnColour) {
+  // A thick shaft alone over a grey card, its feather textured mid-grey: with
+  // Albedo::shaft white it renders light, black dark, and without one as the texture
+  // (at_shaft falls back to at). The material says the same fibre by fibre.
+  const auto render_shaft = [](std::optional<glm::vec3> shaft) {
+    Feather f;
+    f.curves.push_back(test::straight_curve(CurveKind::Shaft, {0, 0, 0}, 6, 0.6f));
+    const fs::path tex = fs::temp_directory_path() / ("plumage_shaft_albedo_" + std::to_string(::getpid()) + ".png");
+    Image t(2, 2, 3);
+    for (int y = 0; y < 2; ++y)
+      for (int x = 0; x < 2; ++x) t.set_rgb(x, y, glm::vec3(0.3f));
+    write_image(tex, t);
+    f.albedo.texture = tex.string();
+    f.albedo.rect_min = {-20, -20};
+    f.albedo.rect_max = {20, 20};
+    f.albedo.shaft = shaft;
+    const FibreMaterial m(HairParams{}, AlbedoMap(f.albedo, "."));
+    if (shaft) {
+      EXPECT_EQ(m.at_shaft({0, 0, 0}).sigma_a, sigma_a_from_layer_albedo(*shaft, HairParams{}.eta));
+    } else {
+      EXPECT_EQ(m.at_shaft({0, 0, 0}).sigma_a, m.at({0, 0, 0}).sigma_a);
+    }
+    SceneOptions so;
+    so.backdrop = {true, glm::vec3(0.5f), 4.0f};
+    const Scene scene(f, so);
+    ViewSpec v;
+    v.width = v.height = 16;
+    v.spp = 16;
+    v.lights = "none";
+    v.environment = EnvironmentLight(glm::vec3(1.0f));
+    v.camera.projection = Projection::Orthographic;
+    v.camera.ortho_height = 0.8f;  // inside the shaft's 1.2 mm width
+    v.camera.up = {1, 0, 0};
+    v.camera.position = {0, 0, 5};
+    v.camera.look_at = {0, 0, 0};
+    const Image img = render_view(scene, DomeRig{}, v);
+    fs::remove(tex);
+    return mean_channel(img, 1);
+  };
+  const double white = render_shaft(glm::vec3(1.0f)), black = render_shaft(glm::vec3(0.0f)), none = render_shaft(std::nullopt);
+  EXPECT_GT(white, 1.5 * none);
+  EXPECT_LT(black, 0.8 * none);
+}

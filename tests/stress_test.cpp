@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "fibre_sampling.h"
 #include "plumage/common/constants.h"
 #include "plumage/common/median.h"
 #include "plumage/common/error.h"
@@ -42,29 +43,10 @@ bool full_stress() {
   return s && std::string(s) == "1";
 }
 
-// splitmix64: the same stream on every platform; one per block of inputs, so the
-// inputs do not depend on how TBB schedules the blocks.
-struct Rng {
-  std::uint64_t s;
-  explicit Rng(std::uint64_t seed) : s(seed) {}
-  std::uint64_t bits() {
-    std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return double(bits() >> 11) * 0x1.0p-53; }
-  float uniformf() { return float(bits() >> 40) * 0x1.0p-24f; }
-  double range(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-  template <class T, std::size_t N>
-  T pick(const T (&a)[N]) { return a[bits() % N]; }
-};
-
-// A unit direction in the fibre frame (+x the tangent) from sin(theta) and phi.
-glm::vec3 direction(double sin_theta, double phi) {
-  const double c = std::sqrt(std::max(0.0, 1.0 - sin_theta * sin_theta));
-  return glm::vec3(float(sin_theta), float(c * std::sin(phi)), float(c * std::cos(phi)));
-}
+// test::Rng (splitmix64): the same stream on every platform; one per block of
+// inputs, so the inputs do not depend on how TBB schedules the blocks.
+using test::direction;
+using test::Rng;
 
 // Mostly the hard cases: theta = +-90 degrees exactly and within ulps of it, the
 // normal plane, denormal components, and the fibre's y axis (h's direction).

@@ -65,6 +65,8 @@ void validate_feather(const Feather& f) {
   };
   if (!finite3(f.albedo.color) || f.albedo.color.x < 0 || f.albedo.color.y < 0 || f.albedo.color.z < 0)
     fail("albedo colour must be finite and non-negative");
+  if (f.albedo.shaft && (!finite3(*f.albedo.shaft) || f.albedo.shaft->x < 0 || f.albedo.shaft->y < 0 || f.albedo.shaft->z < 0))
+    fail("albedo shaft colour must be finite and non-negative");
   if (!(f.albedo.scale >= 1 && f.albedo.scale <= kMaxAlbedoScale))
     fail("albedo scale must lie in [1, 8] (a texel times it is the albedo)");
   if (!(f.medulla.ratio >= 0 && f.medulla.ratio < 1))
@@ -155,8 +157,9 @@ class Reader {
   std::vector<Token> tok_;
 
   // Records seen (line numbers, 0 = not yet), to reject duplicates and check required ones.
-  int scale_line_ = 0, medulla_line_ = 0, units_line_ = 0, source_line_ = 0, seed_line_ = 0, color_line_ = 0, texture_line_ = 0, left_line_ = 0,
-      right_line_ = 0, curves_line_ = 0, shaft_line_ = 0, last_curve_line_ = 0;
+  int shaft_colour_line_ = 0, scale_line_ = 0, medulla_line_ = 0, units_line_ = 0, source_line_ = 0, seed_line_ = 0,
+      color_line_ = 0, texture_line_ = 0, left_line_ = 0, right_line_ = 0, curves_line_ = 0, shaft_line_ = 0,
+      last_curve_line_ = 0;
   std::uint64_t declared_curves_ = 0;
   bool in_curves_ = false;
 };
@@ -295,7 +298,7 @@ void Reader::parse_header_line() {
 }
 
 void Reader::parse_albedo(Feather& f) {
-  if (tok_.size() < 2) fail(end_column(), "albedo: expected 'color', 'texture' or 'scale'");
+  if (tok_.size() < 2) fail(end_column(), "albedo: expected 'color', 'texture', 'shaft' or 'scale'");
   const Token& kind = tok_[1];
   if (kind.text == "color") {
     if (color_line_)
@@ -318,6 +321,14 @@ void Reader::parse_albedo(Feather& f) {
       fail(tok_[5], "albedo texture: XMAX must be greater than XMIN");
     if (!(f.albedo.rect_min.y < f.albedo.rect_max.y))
       fail(tok_[6], "albedo texture: YMAX must be greater than YMIN");
+  } else if (kind.text == "shaft") {
+    if (shaft_colour_line_)
+      fail(tok_[0], "second 'albedo shaft' record (first on line " + std::to_string(shaft_colour_line_) + ")");
+    shaft_colour_line_ = line_no_;
+    expect_count(5, "albedo shaft R G B");
+    glm::vec3 c;
+    for (int i = 0; i < 3; ++i) c[i] = nonneg_float(tok_[2 + i], "albedo shaft colour");
+    f.albedo.shaft = c;
   } else if (kind.text == "scale") {
     if (scale_line_)
       fail(tok_[0], "second 'albedo scale' record (first on line " + std::to_string(scale_line_) + ")");
@@ -325,7 +336,7 @@ void Reader::parse_albedo(Feather& f) {
     expect_count(3, "albedo scale S");
     f.albedo.scale = ranged_float(tok_[2], "albedo scale", 1.0f, float(kMaxAlbedoScale), "[1, 8]");
   } else {
-    fail(kind, "albedo: expected 'color', 'texture' or 'scale', found '" + std::string(kind.text) + "'");
+    fail(kind, "albedo: expected 'color', 'texture', 'shaft' or 'scale', found '" + std::string(kind.text) + "'");
   }
 }
 
@@ -610,6 +621,11 @@ std::string format_fcurves(const Feather& f) {
       out += ' ';
       append_float(out, v);
     }
+    out += '\n';
+  }
+  if (f.albedo.shaft) {
+    out += "albedo shaft ";
+    append_vec3(out, *f.albedo.shaft);
     out += '\n';
   }
   if (f.albedo.scale != 1.0f) {

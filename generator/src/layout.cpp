@@ -221,6 +221,13 @@ struct Reader {
     if (al.contains("scale")) {
       f.albedo.scale = number(al.at("scale"), ap + "/scale", 1.0, kMaxAlbedoScale);
     }
+    if (al.contains("shaft_rgb")) {
+      const json& c = al.at("shaft_rgb");
+      if (!c.is_array() || c.size() != 3) fail(ap + "/shaft_rgb", "expected [r, g, b]");
+      glm::dvec3 rgb;
+      for (int i = 0; i < 3; ++i) rgb[i] = number(c[i], ap + "/shaft_rgb/" + std::to_string(i), 0.0, kMaxAlbedoScale);
+      f.albedo.shaft_rgb = rgb;
+    }
     f.touches_border = boolean(member(j, p, "touches_border"), p + "/touches_border");
     const json& w = member(j, p, "warnings");
     if (!w.is_array()) fail(p + "/warnings", "expected an array of strings");
@@ -287,6 +294,8 @@ std::string layout_to_json(const Layout& L) {
                              {"touches_border", f.touches_border},
                              {"warnings", f.warnings}});
     if (f.albedo.scale != 1.0) feathers.back()["albedo"]["scale"] = f.albedo.scale;  // only a feather paler than its paper
+    if (f.albedo.shaft_rgb)
+      feathers.back()["albedo"]["shaft_rgb"] = {f.albedo.shaft_rgb->x, f.albedo.shaft_rgb->y, f.albedo.shaft_rgb->z};
   }
   ojson skipped = ojson::array();
   for (const SkippedRegion& s : L.skipped)

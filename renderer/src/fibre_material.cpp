@@ -9,7 +9,8 @@ namespace plumage {
 
 AlbedoMap::AlbedoMap(const glm::vec3& constant) : constant_(constant) {}
 
-AlbedoMap::AlbedoMap(const Albedo& albedo, const std::filesystem::path& base_dir) : constant_(albedo.color) {
+AlbedoMap::AlbedoMap(const Albedo& albedo, const std::filesystem::path& base_dir)
+    : constant_(albedo.color), shaft_(albedo.shaft) {
   if (albedo.texture.empty()) return;
   std::filesystem::path path = albedo.texture;
   if (path.is_relative()) path = base_dir / path;
@@ -62,10 +63,22 @@ void FibreMaterial::set_card(const glm::vec3& card, const CardResponse& response
   texel_scale_ = absolute ? 1.0f / std::max(luminance(glm::max(card, glm::vec3(0.0f))), 1e-3f) : 1.0f;
 }
 
+HairParams FibreMaterial::at_shaft(const glm::vec3& p) const {
+  if (!albedo_ || !albedo_->shaft()) return at(p);
+  return from_albedo(*albedo_->shaft(), 1.0f, 1);
+}
+
 HairParams FibreMaterial::at(const glm::vec3& p, float coverage, int layers) const {
+  if (albedo_ && albedo_->textured() && mapping_ == AlbedoMapping::Layer)
+    return from_albedo(albedo_->at({p.x, p.y}), coverage, layers);
   HairParams hp = params_;
-  if (albedo_ && albedo_->textured() && mapping_ == AlbedoMapping::Layer) {
-    glm::vec3 a = albedo_->at({p.x, p.y});
+  hp.sigma_a = albedo_ && albedo_->textured() ? sigma_a_from(albedo_->at({p.x, p.y})) : constant_sigma_a_;
+  return hp;
+}
+
+HairParams FibreMaterial::from_albedo(glm::vec3 a, float coverage, int layers) const {
+  HairParams hp = params_;
+  if (mapping_ == AlbedoMapping::Layer && albedo_ && albedo_->textured()) {
     if (card_) {
       const FibreColour fc = (*card_)(a * texel_scale_);
       a = fc.albedo;
@@ -77,7 +90,7 @@ HairParams FibreMaterial::at(const glm::vec3& p, float coverage, int layers) con
     hp.sigma_a = sigma_a_from(photo_albedo_to_fibre(a, coverage, layers));
     return hp;
   }
-  hp.sigma_a = albedo_ && albedo_->textured() ? sigma_a_from(albedo_->at({p.x, p.y})) : constant_sigma_a_;
+  hp.sigma_a = sigma_a_from(a);  // a constant albedo (or another mapping) is the fibres' own colour
   return hp;
 }
 

@@ -300,8 +300,10 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
       bsdf = &diffuse.emplace(safe_normalize(hit.ng), wo, scene_.options().backdrop.albedo);
     } else {
       bsdf = &fibre.emplace(fibre_frame_at(hit, wo),
-                            material_.at(hit.p, scene_.structure_coverage(hit), scene_.ribbon_layers(hit)), wo,
-                            bsdf_pdf_needed_);
+                            hit.kind == HitKind::Shaft
+                                ? material_.at_shaft(hit.p)
+                                : material_.at(hit.p, scene_.structure_coverage(hit), scene_.ribbon_layers(hit)),
+                            wo, bsdf_pdf_needed_);
     }
 
     // Next-event estimation (settings_.light_pick): one light chosen uniformly or

@@ -64,6 +64,34 @@ AlbedoResult extract_albedo(const cv::Mat& bgr, const Component& f, const glm::d
     cv::line(shaft_mask, texel(double(i) / kSegments), texel(double(i + 1) / kSegments), cv::Scalar(255), w);
   }
   shaft_mask &= mask;
+  // The rachis's own colour, before it is painted out: the per-channel median of the
+  // middle third of the band (its edges blur into the vane), over texels wholly
+  // inside the feather. Linear, over the paper on a light backdrop.
+  {
+    cv::Mat core = cv::Mat::zeros(H, W, CV_8U), inside;
+    for (int i = 0; i < kSegments; ++i) {
+      const int w = std::max(1, int(std::lround(base_px * rachis_width_fraction((i + 0.5) / kSegments)) / 3));
+      cv::line(core, texel(double(i) / kSegments), texel(double(i + 1) / kSegments), cv::Scalar(255), w);
+    }
+    cv::erode(mask == 255, inside, cv::Mat());
+    core &= inside;
+    std::vector<float> ch[3];
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x)
+        if (core.at<uchar>(y, x)) {
+          const cv::Vec3b p = tex.at<cv::Vec3b>(y, x);
+          for (int c = 0; c < 3; ++c) ch[c].push_back(srgb_to_linear(p[2 - c] / 255.0f));
+        }
+    if (ch[0].size() >= 8) {
+      glm::dvec3 rgb;
+      for (int c = 0; c < 3; ++c) {
+        std::nth_element(ch[c].begin(), ch[c].begin() + ch[c].size() / 2, ch[c].end());
+        const double paper = light_background ? std::max(double(srgb_to_linear(float(bg[2 - c]) / 255.0f)), 1e-3) : 1.0;
+        rgb[c] = std::min(double(ch[c][ch[c].size() / 2]) / paper, kMaxAlbedoScale);
+      }
+      out.shaft_rgb = rgb;
+    }
+  }
   // Fill from the vane either side (normalised convolution over valid texels).
   const double sigma = std::max(1.0, 0.75 * th);
   const cv::Rect strip = [&] {

@@ -305,6 +305,7 @@ void analyze_feather(const Photo& photo, const Segmentation& seg, const Componen
   f.albedo.origin_mm = al.origin_mm;
   f.albedo.mm_per_texel = al.mm_per_texel;
   f.albedo.scale = al.scale;
+  f.albedo.shaft_rgb = al.shaft_rgb;
   Image tex(al.rgba.cols, al.rgba.rows, 4);
   std::memcpy(tex.pixels.data(), al.rgba.ptr<float>(0), tex.pixels.size() * sizeof(float));
   out.albedo.push_back(std::move(tex));

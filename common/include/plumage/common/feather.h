@@ -76,6 +76,7 @@ struct Albedo {
   std::string texture;                   // path, relative to the curve file's folder
   glm::vec2 rect_min{0}, rect_max{0};    // texture (0,0) at rect_min (x, y) ... (1,1) at rect_max
   float scale = 1.0f;                    // a texel times scale is the albedo (> 1: paler than the paper)
+  std::optional<glm::vec3> shaft;        // the shaft's own colour (rachis and calamus); else the texture's
   bool operator==(const Albedo&) const = default;
 };
 

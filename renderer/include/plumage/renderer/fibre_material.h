@@ -24,6 +24,8 @@ class AlbedoMap {
   explicit AlbedoMap(const glm::vec3& constant = glm::vec3(0.5f));
 
   bool textured() const { return !image_.empty(); }
+  // The shaft's own colour (Albedo::shaft), when the feather has one.
+  const std::optional<glm::vec3>& shaft() const { return shaft_; }
   // Linear RGB at a point (the texture is clamped at its edges; bilinear), times the
   // albedo's scale: in [0, scale].
   glm::vec3 at(const glm::vec2& xy) const;
@@ -33,6 +35,7 @@ class AlbedoMap {
   Image image_;
   glm::vec2 rect_min_{0}, rect_max_{1};
   float scale_ = 1.0f;  // Albedo::scale
+  std::optional<glm::vec3> shaft_;
 };
 
 // How an albedo becomes an absorption coefficient (docs/hair-bcsdf.md).
@@ -64,6 +67,9 @@ class FibreMaterial {
   // (Scene::ribbon_layers). Then the stack over p returns A. A constant albedo (a
   // preset's) is the fibres' own colour and is used as it is.
   HairParams at(const glm::vec3& p, float coverage = 1.0f, int layers = 1) const;
+  // The shaft's fibre at p: the feather's shaft colour (Albedo::shaft) where it has
+  // one, through the same card correction, one layer deep; else at(p).
+  HairParams at_shaft(const glm::vec3& p) const;
 
   // The texture is a photo's, of a feather lying on the card it lies on in the
   // render (albedo `card`): relative to that card (a light background, the paper
@@ -77,6 +83,9 @@ class FibreMaterial {
 
  private:
   glm::vec3 sigma_a_from(const glm::vec3& albedo) const;
+  // The fibre for a texel's (or the shaft's) albedo `a`: a photo's texture through
+  // the card correction and the layer mapping, else a's absorption.
+  HairParams from_albedo(glm::vec3 a, float coverage, int layers) const;
 
   HairParams params_;
   std::optional<AlbedoMap> albedo_;

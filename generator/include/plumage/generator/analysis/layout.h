@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <array>
 #include <filesystem>
+#include <optional>
 #include <glm/glm.hpp>
 #include <string>
 #include <vector>
@@ -48,6 +49,10 @@ struct AlbedoTexture {
   // A texel times `scale` is the albedo: above 1 where a feather on a light backdrop
   // is paler than the paper (the texture stores [0, 1]); in [1, kMaxAlbedoScale].
   double scale = 1.0;
+  // The rachis's own colour (linear RGB, over the paper as the texture is; each in
+  // [0, kMaxAlbedoScale]), read before the shaft is painted out of the texture;
+  // absent when too few texels show it.
+  std::optional<glm::dvec3> shaft_rgb;
 };
 
 // The most stations one feather's layout may have (the reader refuses more).
