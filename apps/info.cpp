@@ -103,6 +103,8 @@ void print_json(std::ostream& out, const std::string& file, const Feather& f, co
                                {decimal(f.albedo.rect_min.x), decimal(f.albedo.rect_min.y),
                                 decimal(f.albedo.rect_max.x), decimal(f.albedo.rect_max.y)}}};
   const auto rgb = [&](const glm::vec3& c) { return nlohmann::json::array({decimal(c.x), decimal(c.y), decimal(c.z)}); };
+  if (f.albedo.scale != 1.0f) j["albedo"]["scale"] = decimal(f.albedo.scale);
+  if (f.albedo.shaft) j["albedo"]["shaft"] = rgb(*f.albedo.shaft);
   j["medulla"] = {{"ratio", decimal(f.medulla.ratio)},
                   {"sigma_s", rgb(f.medulla.sigma_s)},
                   {"sigma_a", rgb(f.medulla.sigma_a)}};
@@ -148,6 +150,9 @@ void print_text(std::ostream& out, const std::string& file, const Feather& f, co
     out << "; texture \"" << f.albedo.texture << "\" on x [" << num(f.albedo.rect_min.x) << ", "
         << num(f.albedo.rect_max.x) << "] y [" << num(f.albedo.rect_min.y) << ", " << num(f.albedo.rect_max.y)
         << "] mm";
+  if (f.albedo.scale != 1.0f) out << ", times " << num(f.albedo.scale);
+  if (f.albedo.shaft)
+    out << "; shaft " << num(f.albedo.shaft->x) << " " << num(f.albedo.shaft->y) << " " << num(f.albedo.shaft->z);
   out << "\n";
   row("medulla");
   if (f.medulla.ratio > 0)

@@ -167,6 +167,23 @@ TEST_F(CurvesCli, InfoSummarisesTheFeather) {
   EXPECT_EQ(json["control_points"], feather_.num_control_points());
   EXPECT_EQ(json["substructure"]["right"]["elevation"], 42.5);
   EXPECT_EQ(json["albedo"]["color"][0], 0.42);
+  EXPECT_EQ(json["medulla"]["ratio"], 0.0);
+  EXPECT_NE(r.out.find("medulla        none (clear fibres)"), std::string::npos) << r.out;
+  // A feather with a medulla, a shaft colour and a texture scale says them.
+  Feather pale = feather_;
+  pale.medulla = {0.7f, glm::vec3(4.0f), glm::vec3(0.0f, 0.5f, 0.0f)};
+  pale.albedo.shaft = glm::vec3(0.9f, 0.2f, 0.1f);
+  pale.albedo.scale = 2.0f;
+  write_fcurves(dir_ / "pale.fcurves", pale);
+  const Result pr = run("info " + path("pale.fcurves"));
+  ASSERT_EQ(pr.rc, 0) << pr.err;
+  EXPECT_NE(pr.out.find("ratio 0.7, sigma_s 4 4 4, sigma_a 0 0.5 0 per radius"), std::string::npos) << pr.out;
+  EXPECT_NE(pr.out.find(", times 2; shaft 0.9 0.2 0.1"), std::string::npos) << pr.out;
+  const auto pj = nlohmann::json::parse(run("info --json " + path("pale.fcurves")).out);
+  EXPECT_EQ(pj["medulla"]["ratio"], 0.7);
+  EXPECT_EQ(pj["medulla"]["sigma_a"][1], 0.5);
+  EXPECT_EQ(pj["albedo"]["shaft"][0], 0.9);
+  EXPECT_EQ(pj["albedo"]["scale"], 2.0);
   // The shaft of the sample runs along +Y: its length is at least the straight
   // distance between the curve's end points and less than its control polygon.
   const auto& s = feather_.curves[0].points;
