@@ -230,7 +230,10 @@ CardCorrection::CardCorrection(const CardResponse& r, const glm::vec3& card) {
   for (int i = 0; i < CardResponse::kNodes; ++i) albedo_[i] = r.rows[0].nodes[i].albedo;
   for (int j = 0; j < CardResponse::kRows; ++j) {
     sigma_s_[j] = r.rows[j].medulla_sigma_s;
-    for (int i = 0; i < CardResponse::kNodes; ++i) seen_[j][i] = r.seen(j, i, lc);
+    for (int i = 0; i < CardResponse::kNodes; ++i) {
+      seen_[j][i] = r.seen(j, i, lc);
+      for (int k = 0; k < 3; ++k) seen_rgb_[k][j][i] = r.seen(j, i, c[k]);
+    }
   }
 }
 
@@ -274,30 +277,36 @@ FibreColour CardCorrection::operator()(const glm::vec3& seen) const {
     out.albedo = glm::clamp(s * (a / ls), glm::vec3(0.0f), glm::vec3(1.0f));
     return out;
   }
-  // Paler than white clear fibres: the medulla whose white fibres show the brightest
-  // channel, between two rows (a row that shows less than the one before is skipped).
-  int lo = 0;
-  float t = 1.0f;
-  int hi = -1;
-  for (int j = 1; j < CardResponse::kRows; ++j) {
-    if (seen_[j][last] <= seen_[lo][last]) continue;
-    hi = j;
-    if (top <= seen_[j][last]) {
-      t = (top - seen_[lo][last]) / (seen_[j][last] - seen_[lo][last]);
-      break;
-    }
-    if (j < CardResponse::kRows - 1) lo = j;
-  }
-  if (hi < 0) {  // no medulla shows more than the clear fibre
-    hi = lo;
-    t = 1.0f;
-  }
-  if (top > seen_[hi][last]) out.clamped = true;
-  t = std::clamp(t, 0.0f, 1.0f);
-  out.medulla_sigma_s = sigma_s_[lo] + t * (sigma_s_[hi] - sigma_s_[lo]);
-  const auto row = [&](int i) { return seen_[lo][i] + t * (seen_[hi][i] - seen_[lo][i]); };
+  // Paler than white clear fibres: each channel on the table over its own card
+  // channel (the medulla's light is mostly sent back without reaching the card, so
+  // a pink card shows a white vane greener than a grey one). The scattering is the
+  // largest that any channel's white fibres need to show it (linear in sigma_s
+  // between the first row that reaches it and the row before), and each channel's
+  // albedo is inverted on its table blended at that scattering.
+  float sigma = 0.0f;
   for (int c = 0; c < 3; ++c) {
-    if (s[c] < row(0) * 0.98f - 1e-3f) out.clamped = true;
+    const auto& rows = seen_rgb_[c];
+    float need = sigma_s_[CardResponse::kRows - 1];
+    bool reached = false;
+    for (int j = 1; j < CardResponse::kRows && !reached; ++j)
+      if (s[c] <= rows[j][last]) {
+        const float below = rows[j - 1][last];
+        const float t = s[c] > below && rows[j][last] > below ? (s[c] - below) / (rows[j][last] - below) : 0.0f;
+        need = sigma_s_[j - 1] + t * (sigma_s_[j] - sigma_s_[j - 1]);
+        reached = true;
+      }
+    if (!reached) out.clamped = true;
+    sigma = std::max(sigma, need);
+  }
+  out.medulla_sigma_s = sigma;
+  int hi = 1;
+  while (hi < CardResponse::kRows - 1 && sigma_s_[hi] < sigma) ++hi;
+  const int lo = hi - 1;
+  const float t = std::clamp((sigma - sigma_s_[lo]) / (sigma_s_[hi] - sigma_s_[lo]), 0.0f, 1.0f);
+  for (int c = 0; c < 3; ++c) {
+    const auto& rows = seen_rgb_[c];
+    const auto row = [&](int i) { return rows[lo][i] + t * (rows[hi][i] - rows[lo][i]); };
+    if (s[c] < row(0) * 0.98f - 1e-3f || s[c] > row(last) * 1.02f + 1e-3f) out.clamped = true;
     out.albedo[c] = invert_row(albedo_, row, s[c]);
   }
   return out;

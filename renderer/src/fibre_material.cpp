@@ -60,7 +60,7 @@ glm::vec3 photo_albedo_to_fibre(const glm::vec3& area_albedo, float coverage, in
 
 void FibreMaterial::set_card(const glm::vec3& card, const CardResponse& response, bool absolute) {
   card_.emplace(response, card);
-  texel_scale_ = absolute ? 1.0f / std::max(luminance(glm::max(card, glm::vec3(0.0f))), 1e-3f) : 1.0f;
+  texel_scale_ = absolute ? 1.0f / glm::max(card, glm::vec3(1e-3f)) : glm::vec3(1.0f);
 }
 
 HairParams FibreMaterial::at_shaft(const glm::vec3& p) const {

@@ -103,10 +103,9 @@ PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, con
     std::filesystem::path tex = feather.albedo.texture;
     if (tex.is_relative()) tex = view.base_dir / tex;
     const Image texture = read_image(tex);
-    const float scale = feather.albedo.scale *
-                        (view.photo_texture_absolute
-                             ? 1.0f / std::max(luminance(glm::max(*view.photo_card, glm::vec3(0.0f))), 1e-3f)
-                             : 1.0f);
+    const glm::vec3 scale = feather.albedo.scale * (view.photo_texture_absolute
+                                                         ? 1.0f / glm::max(*view.photo_card, glm::vec3(1e-3f))
+                                                         : glm::vec3(1.0f));
     for (ShadingMode mode : {ShadingMode::Hair, ShadingMode::Substructure})
       c.inversion.push_back(count_inversion(texture, CardCorrection(card_response(mode), *view.photo_card), scale));
   }
@@ -121,7 +120,7 @@ PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, con
   return c;
 }
 
-InversionCounts count_inversion(const Image& texture, const CardCorrection& correction, float texel_scale) {
+InversionCounts count_inversion(const Image& texture, const CardCorrection& correction, const glm::vec3& texel_scale) {
   InversionCounts n;
   for (int y = 0; y < texture.height; ++y)
     for (int x = 0; x < texture.width; ++x) {

@@ -76,10 +76,11 @@ struct FibreColour {
 //   clear fibre: on the luminances, the A at which row 0's seen / card, linear
 //   between its nodes, equals seen (0 below what black fibres show), and `seen`
 //   scaled by A / its luminance so that the hue stays; clamped to [0, 1];
-// * paler texels get a medulla: its scattering is the one at which white fibres
-//   show the brightest channel (linear between rows, the rows that show less than
-//   the row before skipped), then each channel's A is inverted on that row alone.
-//   Channels beyond the row's reach are clamped (and the texel counted).
+// * paler texels get a medulla, each channel on the table over its own card channel:
+//   its scattering is the largest that any channel's white fibres need to show it
+//   (linear in sigma_s between the first row that reaches it and the row before),
+//   then each channel's A is inverted on its table blended at that scattering.
+//   Channels beyond the table's reach are clamped (and the texel counted).
 // `card` is clamped to at least 1e-3; non-finite channels count as 0 (seen) or 1
 // (card). Built once per card, applied per texel.
 class CardCorrection {
@@ -89,7 +90,9 @@ class CardCorrection {
 
  private:
   std::array<float, CardResponse::kNodes> albedo_;
-  std::array<std::array<float, CardResponse::kNodes>, CardResponse::kRows> seen_;
+  using Table = std::array<std::array<float, CardResponse::kNodes>, CardResponse::kRows>;
+  Table seen_;                    // over the card's luminance (clear fibres)
+  std::array<Table, 3> seen_rgb_;  // over each channel of the card (fibres with a medulla)
   std::array<float, CardResponse::kRows> sigma_s_;
 };
 

@@ -74,7 +74,7 @@ class FibreMaterial {
   // The texture is a photo's, of a feather lying on the card it lies on in the
   // render (albedo `card`): relative to that card (a light background, the paper
   // divided out), or with `absolute` the photo's own colour (a dark background),
-  // which is divided by the card's luminance first. Before the mapping each texel
+  // which is divided by the card's colour first. Before the mapping each texel
   // becomes the fibre of CardCorrection(response, card): an albedo, and for texels
   // paler than clear fibres can look, a medulla (ratio kPhotoMedullaRatio) that
   // scatters; so the vane looks as the photo's does although part of its light
@@ -92,7 +92,7 @@ class FibreMaterial {
   AlbedoMapping mapping_ = AlbedoMapping::Layer;
   glm::vec3 constant_sigma_a_;
   std::optional<CardCorrection> card_;
-  float texel_scale_ = 1.0f;  // 1 / the card's luminance for an absolute texture
+  glm::vec3 texel_scale_{1.0f};  // 1 / the card per channel for an absolute texture
 };
 
 }  // namespace plumage

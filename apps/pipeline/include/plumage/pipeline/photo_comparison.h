@@ -54,7 +54,7 @@ std::vector<Panel> light_sequence_sheets(const Feather& feather, SceneOptions sc
 struct InversionCounts {
   long texels = 0, medulla = 0, clamped = 0;
 };
-InversionCounts count_inversion(const Image& texture, const CardCorrection& correction, float texel_scale);
+InversionCounts count_inversion(const Image& texture, const CardCorrection& correction, const glm::vec3& texel_scale);
 
 struct PhotoComparison {
   PhotoCrop crop;
