@@ -83,28 +83,26 @@ const Inputs& inputs() {
   return in;
 }
 
-// range(0): 0 clear, 1 medulla. One construction (for wo) and one f per input.
-void BM_MedullaBCSDF_F(benchmark::State& state) {
+// range(0): 0 clear, 1 medulla. One construction (for wo) and one call per input.
+template <class Call>
+void bcsdf_calls(benchmark::State& state, Call&& call) {
   const HairParams p = fibre(state.range(0) != 0);
   const Inputs& in = inputs();
   std::size_t i = 0;
   for (auto _ : state) {
     const HairBCSDF b(p, in.h[i], in.wo[i]);
-    benchmark::DoNotOptimize(b.f(in.wo[i], in.wi[i]));
+    benchmark::DoNotOptimize(call(b, in, i));
     i = (i + 1) & 1023;
   }
+}
+
+void BM_MedullaBCSDF_F(benchmark::State& state) {
+  bcsdf_calls(state, [](const HairBCSDF& b, const Inputs& in, std::size_t i) { return b.f(in.wo[i], in.wi[i]); });
 }
 BENCHMARK(BM_MedullaBCSDF_F)->ArgName("medulla")->DenseRange(0, 1);
 
 void BM_MedullaBCSDF_Sample(benchmark::State& state) {
-  const HairParams p = fibre(state.range(0) != 0);
-  const Inputs& in = inputs();
-  std::size_t i = 0;
-  for (auto _ : state) {
-    const HairBCSDF b(p, in.h[i], in.wo[i]);
-    benchmark::DoNotOptimize(b.sample(in.wo[i], in.u0[i], in.u1[i]));
-    i = (i + 1) & 1023;
-  }
+  bcsdf_calls(state, [](const HairBCSDF& b, const Inputs& in, std::size_t i) { return b.sample(in.wo[i], in.u0[i], in.u1[i]); });
 }
 BENCHMARK(BM_MedullaBCSDF_Sample)->ArgName("medulla")->DenseRange(0, 1);
 

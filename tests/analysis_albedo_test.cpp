@@ -25,6 +25,20 @@ struct NarrowVaneCase {
 
 class AnalysisAlbedo : public ::testing::TestWithParam<NarrowVaneCase> {};
 
+// The drawn feather, written as a PNG and analysed at 0.1 mm per pixel.
+PhotoAnalysis analyze_drawn(const SyntheticFeather& F) {
+  const fs::path dir = fs::temp_directory_path() / ("plumage_albedo_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path photo = dir / "feather.png";
+  write_image(photo, F.draw());
+  AnalyzeOptions opt;
+  opt.mm_per_px = 0.1;
+  PhotoAnalysis A = analyze_photo(photo, opt);
+  fs::remove_all(dir);
+  return A;
+}
+
 }  // namespace
 
 TEST_P(AnalysisAlbedo, ANarrowVaneBesideAThickQuillKeepsItsColour) {
@@ -36,16 +50,7 @@ TEST_P(AnalysisAlbedo, ANarrowVaneBesideAThickQuillKeepsItsColour) {
   F.w_right = c.narrow_left ? 90 : 16;
   F.barb_contrast = 0;  // a uniform vane: every vane texel should read the same
   F.noise = 0.005;
-  const fs::path dir = fs::temp_directory_path() / ("plumage_albedo_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const fs::path photo = dir / "feather.png";
-  write_image(photo, F.draw());
-
-  AnalyzeOptions opt;
-  opt.mm_per_px = 0.1;
-  const PhotoAnalysis A = analyze_photo(photo, opt);
-  fs::remove_all(dir);
+  const PhotoAnalysis A = analyze_drawn(F);
   ASSERT_EQ(A.layout.feathers.size(), 1u);
   ASSERT_EQ(A.albedo.size(), 1u);
   const FeatherLayout& f = A.layout.feathers[0];
@@ -88,15 +93,7 @@ TEST(AnalysisShaftColour, TheRachisKeepsItsOwnColour) {
     F.shaft_width = 14;
     F.rachis_contrast = contrast;
     F.noise = 0.005;
-    const fs::path dir = fs::temp_directory_path() / ("plumage_shaft_rgb_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    const fs::path photo = dir / "feather.png";
-    write_image(photo, F.draw());
-    AnalyzeOptions opt;
-    opt.mm_per_px = 0.1;
-    const PhotoAnalysis A = analyze_photo(photo, opt);
-    fs::remove_all(dir);
+    const PhotoAnalysis A = analyze_drawn(F);
     ASSERT_EQ(A.layout.feathers.size(), 1u);
     const auto& rgb = A.layout.feathers[0].albedo.shaft_rgb;
     ASSERT_TRUE(rgb.has_value()) << "contrast " << contrast;

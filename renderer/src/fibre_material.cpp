@@ -37,6 +37,10 @@ glm::vec3 AlbedoMap::at(const glm::vec2& xy) const {
   return glm::clamp(glm::mix(top, bottom, ty), glm::vec3(0.0f), glm::vec3(1.0f)) * scale_;
 }
 
+glm::vec3 AlbedoMap::texel(int x, int y) const {
+  return glm::clamp(image_.rgb(x, y), glm::vec3(0.0f), glm::vec3(1.0f)) * scale_;
+}
+
 FibreMaterial::FibreMaterial(const HairParams& params, AlbedoMap albedo, AlbedoMapping mapping)
     : params_(params), albedo_(std::move(albedo)), mapping_(mapping),
       constant_sigma_a_(sigma_a_from(albedo_->at({0, 0}))) {}
@@ -61,6 +65,19 @@ glm::vec3 photo_albedo_to_fibre(const glm::vec3& area_albedo, float coverage, in
 void FibreMaterial::set_card(const glm::vec3& card, const CardResponse& response, bool absolute) {
   card_.emplace(response, card);
   texel_scale_ = absolute ? 1.0f / glm::max(card, glm::vec3(1e-3f)) : glm::vec3(1.0f);
+}
+
+InversionCounts FibreMaterial::count_inversion() const {
+  InversionCounts n;
+  if (!card_ || !albedo_ || !albedo_->textured()) return n;
+  for (int y = 0; y < albedo_->height(); ++y)
+    for (int x = 0; x < albedo_->width(); ++x) {
+      const FibreColour fc = (*card_)(albedo_->texel(x, y) * texel_scale_);
+      ++n.texels;
+      n.medulla += fc.medulla_sigma_s > 0.0f;
+      n.clamped += fc.clamped;
+    }
+  return n;
 }
 
 HairParams FibreMaterial::at_shaft(const glm::vec3& p) const {

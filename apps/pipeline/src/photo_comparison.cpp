@@ -99,16 +99,9 @@ PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, con
   view.photo_texture_absolute = layout.background != "light";
   c.panels.push_back({std::move(photo_panel), "photo"});
   for (Panel& p : render_both_modes(feather, so, rig, view)) c.panels.push_back(std::move(p));
-  if (!feather.albedo.texture.empty()) {
-    std::filesystem::path tex = feather.albedo.texture;
-    if (tex.is_relative()) tex = view.base_dir / tex;
-    const Image texture = read_image(tex);
-    const glm::vec3 scale = feather.albedo.scale * (view.photo_texture_absolute
-                                                         ? 1.0f / glm::max(*view.photo_card, glm::vec3(1e-3f))
-                                                         : glm::vec3(1.0f));
+  if (!feather.albedo.texture.empty())
     for (ShadingMode mode : {ShadingMode::Hair, ShadingMode::Substructure})
-      c.inversion.push_back(count_inversion(texture, CardCorrection(card_response(mode), *view.photo_card), scale));
-  }
+      c.inversion.push_back(view_material(feather, view, mode).count_inversion());
   c.regions = crop_regions(picked, c.crop);
   // The photo's backdrop is its background (neighbouring feathers may lie in its
   // ring); a render's card is alone in its panel.
@@ -118,18 +111,6 @@ PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, con
   for (std::size_t i = 1; i < c.measured.size(); ++i)
     c.fidelity.push_back(compare_panels(c.measured[0], c.measured[i], c.regions));
   return c;
-}
-
-InversionCounts count_inversion(const Image& texture, const CardCorrection& correction, const glm::vec3& texel_scale) {
-  InversionCounts n;
-  for (int y = 0; y < texture.height; ++y)
-    for (int x = 0; x < texture.width; ++x) {
-      const FibreColour fc = correction(glm::clamp(texture.rgb(x, y), glm::vec3(0.0f), glm::vec3(1.0f)) * texel_scale);  // as AlbedoMap::at
-      ++n.texels;
-      n.medulla += fc.medulla_sigma_s > 0.0f;
-      n.clamped += fc.clamped;
-    }
-  return n;
 }
 
 Image comparison_image(const PhotoComparison& c) { return side_by_side(c.panels); }

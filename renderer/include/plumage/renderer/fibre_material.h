@@ -29,6 +29,10 @@ class AlbedoMap {
   // Linear RGB at a point (the texture is clamped at its edges; bilinear), times the
   // albedo's scale: in [0, scale].
   glm::vec3 at(const glm::vec2& xy) const;
+  // The texture's texel (x, y) as at() reads it (clamped to [0, 1], times the scale).
+  glm::vec3 texel(int x, int y) const;
+  int width() const { return image_.width; }
+  int height() const { return image_.height; }
 
  private:
   glm::vec3 constant_;
@@ -51,6 +55,14 @@ enum class AlbedoMapping {
 // A is clamped to [0, 1]; the result may be <= 0 where open gaps alone are
 // brighter than A (sigma_a_from_* clamp it to their least albedo).
 glm::vec3 photo_albedo_to_fibre(const glm::vec3& area_albedo, float coverage, int layers);
+
+// How an albedo texture's texels come through the card response's inversion
+// (CardCorrection): how many, how many were given a medulla (paler than clear
+// fibres show over the card), and how many were clamped (beyond every fibre the
+// table holds).
+struct InversionCounts {
+  long texels = 0, medulla = 0, clamped = 0;
+};
 
 class FibreMaterial {
  public:
@@ -80,6 +92,10 @@ class FibreMaterial {
   // scatters; so the vane looks as the photo's does although part of its light
   // never reaches the card (card_response.h).
   void set_card(const glm::vec3& card, const CardResponse& response, bool absolute = false);
+
+  // Every texel of the albedo texture through the card correction set_card gave,
+  // as at() takes it; all zero without a texture or a card.
+  InversionCounts count_inversion() const;
 
  private:
   glm::vec3 sigma_a_from(const glm::vec3& albedo) const;

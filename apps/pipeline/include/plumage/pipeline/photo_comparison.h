@@ -47,15 +47,6 @@ std::vector<Panel> light_sequence_sheets(const Feather& feather, SceneOptions sc
 
 // The photo, cropped around the picked feather, and the feather's renders in the
 // same pose (photo_view.h), with their fidelity against the photo.
-// How an albedo texture's texels came through the card response's inversion
-// (CardCorrection): how many, how many were given a medulla (paler than clear
-// fibres show over the card), and how many were clamped (beyond every fibre the
-// table holds).
-struct InversionCounts {
-  long texels = 0, medulla = 0, clamped = 0;
-};
-InversionCounts count_inversion(const Image& texture, const CardCorrection& correction, const glm::vec3& texel_scale);
-
 struct PhotoComparison {
   PhotoCrop crop;
   PanelRegions regions;
