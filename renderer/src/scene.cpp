@@ -81,13 +81,11 @@ Scene::Scene(const Feather& feather, const SceneOptions& options)
   if (options_.mode == ShadingMode::Farfield) build_farfield();
 
   add_curves(shaft_, CurveKind::Shaft, RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE);
-  if (options_.mode == ShadingMode::Explicit)
-    build_explicit();
-  else
-    add_curves(barbs_, CurveKind::Barb,
-               options_.mode == ShadingMode::Substructure || options_.mode == ShadingMode::Farfield
-                   ? RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE
-                   : RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE);
+  switch (barb_geometry(options_.mode)) {
+    case BarbGeometry::Structures: build_explicit(); break;
+    case BarbGeometry::VaneRibbon: add_curves(barbs_, CurveKind::Barb, RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE); break;
+    case BarbGeometry::FacingRibbon: add_curves(barbs_, CurveKind::Barb, RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE); break;
+  }
   scene_bounds_ = bounds_;
   if (options_.backdrop.enabled) add_backdrop();
   // A few float ulps at the scene's coordinates: spawn's margins (once, not per ray).

@@ -121,8 +121,7 @@ Ray Scene::spawn(const SurfaceHit& from, const glm::vec3& d, float tmax) const {
   r.skip_curve = curve_geometry(from.geom)->prims[from.prim].fibre;
   const CurvePoint cp = curve_point(from);
   float inside = 2.05f * cp.radius;
-  const bool in_vane = from.kind == HitKind::Barb &&
-                       (options_.mode == ShadingMode::Substructure || options_.mode == ShadingMode::Farfield);
+  const bool in_vane = from.kind == HitKind::Barb && barb_geometry(options_.mode) == BarbGeometry::VaneRibbon;
   if (!in_vane) {
     // 2 % on the radius covers the tube's bend over the few radii the ray crosses.
     const float exit = tube_exit_distance(from.p, d, cp.p, cp.dp, 1.02f * cp.radius + eps);

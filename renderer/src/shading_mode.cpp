@@ -14,6 +14,16 @@ const char* to_string(ShadingMode m) {
   return "hair";
 }
 
+BarbGeometry barb_geometry(ShadingMode m) {
+  switch (m) {
+    case ShadingMode::Substructure:
+    case ShadingMode::Farfield: return BarbGeometry::VaneRibbon;
+    case ShadingMode::Explicit: return BarbGeometry::Structures;
+    case ShadingMode::Hair: break;
+  }
+  return BarbGeometry::FacingRibbon;
+}
+
 ShadingMode parse_shading_mode(const std::string& s) {
   for (ShadingMode m : kShadingModes)
     if (s == to_string(m)) return m;

@@ -1,16 +1,17 @@
 #pragma once
 // Unidirectional path tracing (Kajiya 1986) with next-event estimation and
 // multiple importance sampling between light sampling and BCSDF sampling (Veach &
-// Guibas 1995, power heuristic), and Russian roulette. Fibres are shaded with the
-// hair BCSDF in their own frame; the backdrop is a two-sided lambertian card.
+// Guibas 1995, power heuristic), and Russian roulette. Every hit is shaded through
+// a Bsdf (bsdf.h): barbs by the shading mode's model (barb_shading.h), the shaft as
+// a round fibre, the backdrop as a two-sided lambertian card.
 #include <cstdint>
 #include <memory>
 #include <vector>
 
 #include <glm/glm.hpp>
 
-#include "plumage/renderer/farfield.h"
-#include "plumage/renderer/fibre_frame.h"
+#include "plumage/renderer/barb_shading.h"
+#include "plumage/renderer/bsdf.h"
 #include "plumage/renderer/fibre_material.h"
 #include "plumage/renderer/light_set.h"
 #include "plumage/renderer/sampler.h"
@@ -47,14 +48,14 @@ class PathIntegrator {
   glm::vec3 Li(Ray ray, PixelSampler& sampler, PathCounters& counters) const;
 
  private:
-  FibreFrame fibre_frame_at(const SurfaceHit& hit, const glm::vec3& wo) const;
+  const Bsdf& bsdf_at(const SurfaceHit& hit, const glm::vec3& wo, BsdfSlot& slot) const;
 
   const Scene& scene_;
   const LightSet& lights_;
   const FibreMaterial& material_;
   IntegratorSettings settings_;
   bool bsdf_pdf_needed_;  // MIS weighs BCSDF-sampled rays that reach a light (LightSet::hit_by_sampled_rays)
-  std::vector<std::shared_ptr<const FarfieldModel>> farfield_[2];  // farfield mode: left, right vane, per class
+  std::unique_ptr<const BarbShading> barbs_;  // the scene's shading mode's model
 };
 
 // Veach's power heuristic (beta = 2) for one sample of each of two strategies.

@@ -17,6 +17,15 @@ inline constexpr ShadingMode kShadingModes[] = {ShadingMode::Hair, ShadingMode::
                                                 ShadingMode::Farfield};
 
 const char* to_string(ShadingMode m);
+
+// The geometry the scene builds for barbs in each mode (scene.h); how a barb hit is
+// shaded is the mode's BarbShading (barb_shading.h).
+enum class BarbGeometry {
+  FacingRibbon,  // hair: a flat ribbon facing the ray
+  VaneRibbon,    // substructure, farfield: a normal-oriented ribbon in the vane, with an any-hit filter
+  Structures,    // explicit: rami and barbules as round curves
+};
+BarbGeometry barb_geometry(ShadingMode m);
 // "hair", "substructure", "explicit" or "farfield"; throws plumage::Error otherwise.
 ShadingMode parse_shading_mode(const std::string& s);
 
