@@ -152,6 +152,67 @@ TEST(PhotoView, CropAveragesThePhotoOverEachPanelPixel) {
   EXPECT_NEAR(one.rgb(3, 3).x, 0.5f, 1e-6f);
 }
 
+TEST(PhotoView, RendersAreTracedOnThePhotosGridWhereItIsCoarser) {
+  PhotoCrop shown;
+  shown.origin_px = {10.3, 20.6};
+  shown.width = 672, shown.height = 180;
+  // Panel pixels larger than photo pixels: the panel's own grid.
+  shown.px_per_panel_px = 1.5;
+  const PhotoCrop same = render_grid_for(shown);
+  EXPECT_EQ(same.width, shown.width);
+  EXPECT_EQ(same.height, shown.height);
+  EXPECT_EQ(same.px_per_panel_px, shown.px_per_panel_px);
+  EXPECT_EQ(render_spp_for(8, shown, same), 8);
+  // 0.3 photo px per panel px: the crop spans 201.6 x 54 photo pixels, so the
+  // photo's own grid (factor 1) has more than kMinRenderSide pixels.
+  shown.px_per_panel_px = 0.3;
+  const PhotoCrop g = render_grid_for(shown);
+  EXPECT_EQ(g.px_per_panel_px, 1.0);
+  EXPECT_EQ(g.origin_px, glm::dvec2(10, 20));  // on the photo's pixel corners
+  // Covers the crop: 10.3 + 201.6 = 211.9 -> 212; 20.6 + 54 = 74.6 -> 75.
+  EXPECT_EQ(g.width, 202);
+  EXPECT_EQ(g.height, 55);
+  // The panel's samples gathered there: 8 x (672 x 180) / (202 x 55) = 87 -> 64 or 128.
+  const int spp = render_spp_for(8, shown, g);
+  EXPECT_TRUE(spp == 64 || spp == 128) << spp;
+  EXPECT_EQ(render_spp_for(4096, shown, g), 4096);  // never fewer than asked, never more than 4096 unless asked
+  // 0.1 photo px per panel px: 67 photo pixels long, refined by 3 (0.33 px) to reach 160.
+  shown.px_per_panel_px = 0.1;
+  const PhotoCrop fine = render_grid_for(shown);
+  EXPECT_NEAR(fine.px_per_panel_px, 1.0 / 3.0, 1e-12);
+  EXPECT_GE(std::max(fine.width, fine.height), kMinRenderSide);
+  EXPECT_LE(fine.origin_px.x, shown.origin_px.x);
+  EXPECT_GE(fine.origin_px.x + fine.width * fine.px_per_panel_px, shown.origin_px.x + 67.2 - 1e-9);
+  // Never finer than the panel: 0.9 photo px per panel px gives the photo's grid.
+  shown.px_per_panel_px = 0.9;
+  EXPECT_EQ(render_grid_for(shown).px_per_panel_px, 1.0);
+}
+
+TEST(PhotoView, ARenderOnThePhotosGridIsShownAsThePhotoIs) {
+  // A render traced on the photo's grid and shown on the panel equals the photo's
+  // own crop of the same picture: both go through the same footprints.
+  Image photo(256, 128, 3);
+  for (int y = 0; y < 128; ++y)
+    for (int x = 0; x < 256; ++x) photo.set_rgb(x, y, glm::vec3(float((x / 3 + y) % 2), float(x) / 256, float(y) / 128));
+  PhotoCrop shown;
+  shown.origin_px = {5.25, 3.5};
+  shown.px_per_panel_px = 0.5;
+  shown.width = 400, shown.height = 200;
+  const PhotoCrop g = render_grid_for(shown);
+  ASSERT_EQ(g.px_per_panel_px, 1.0);
+  Image traced(g.width, g.height, 3);
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) traced.set_rgb(x, y, photo.rgb(int(g.origin_px.x) + x, int(g.origin_px.y) + y));
+  const Image a = show_on_panel(traced, g, shown), b = crop_photo(photo, shown);
+  ASSERT_EQ(a.width, b.width);
+  ASSERT_EQ(a.height, b.height);
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) ASSERT_NEAR(a.pixels[i], b.pixels[i], 1e-6f) << i;
+  // The panel's own grid: shown as traced.
+  shown.px_per_panel_px = 2;
+  const Image same(shown.width, shown.height, 3, 0.25f);
+  EXPECT_EQ(show_on_panel(same, render_grid_for(shown), shown).pixels, same.pixels);
+}
+
 namespace {
 // A light card with a dark disc of radius r at (cx, cy), optionally with a card-coloured hole.
 Image disc(int w, int h, double cx, double cy, double r, double hole = 0) {

@@ -110,6 +110,37 @@ TEST_F(PhotoToFeather, SyntheticPhotoGivesEveryArtifactAndASummary) {
   EXPECT_GT(fid.at("hair").at("feather").at("photo_pixels").get<int>(), 100);
 }
 
+TEST_F(PhotoToFeather, PanelsLargerThanThePhotoAreTracedOnThePhotosGrid) {
+  // The synthetic feather spans about 300 photo pixels; panels of 900 pixels are
+  // traced on the photo's grid with the panels' samples gathered there.
+  const std::string photo = synthetic_photo();
+  const CliResult r =
+      plumage_cli("photo-to-feather " + photo + " -o " + path("out") + " --mm-per-px 0.2 --spp 1 --size 900");
+  ASSERT_EQ(r.rc, 0) << r.output;
+  EXPECT_NE(r.output.find("traced at the photo's "), std::string::npos) << r.output;
+  const nlohmann::json s = nlohmann::json::parse(read_file(dir_ / "out" / "summary.json"));
+  const nlohmann::json& render = s.at("render");
+  const int pw = render.at("panel_width"), ph = render.at("panel_height");
+  const int tw = render.at("traced_width"), th = render.at("traced_height");
+  const double px = s.at("fidelity").at("panel").at("photo_px_per_panel_px");
+  ASSERT_LT(px, 0.5);
+  // The photo's own pixels over the crop (whole pixels, so up to two more), and the
+  // panel's samples: spp x (panel / traced pixels), to a power of two.
+  EXPECT_NEAR(tw, pw * px, 2.0);
+  EXPECT_NEAR(th, ph * px, 2.0);
+  const double ratio = double(pw) * ph / (double(tw) * th);
+  const int spp = render.at("traced_spp");
+  EXPECT_EQ(spp & (spp - 1), 0) << spp;
+  EXPECT_GE(spp, ratio / std::sqrt(2.0) - 1e-9);
+  EXPECT_LE(spp, ratio * std::sqrt(2.0) + 1e-9);
+  EXPECT_EQ(s.at("fidelity").at("panel").at("render_grid").at("spp"), spp);
+  // Shown at panel size, in the photo's pose.
+  const Image cmp = read_image(dir_ / "out" / "comparison.png");
+  EXPECT_GE(cmp.width, 3 * pw);
+  for (const char* panel : {"hair", "substructure"})
+    EXPECT_GT(s.at("fidelity").at(panel).at("feather").at("silhouette_iou").get<double>(), 0.6) << panel;
+}
+
 TEST_F(PhotoToFeather, SheetOfTwoSaysWhichFeatherItUsesAndHowToPick) {
   // Two synthetic feathers side by side: the small one left, the large one right.
   synthetic::SyntheticFeather a, b;
@@ -210,6 +241,9 @@ TEST_F(PhotoToFeather, PinkContourFeather) {
   const nlohmann::json& panel = s.at("fidelity").at("panel");
   EXPECT_EQ(panel.at("width"), 120);
   EXPECT_LT(panel.at("photo_px_per_panel_px").get<double>() * 120, 1920.0);
+  // The photo holds more pixels than the panel: traced on the panel's grid as asked.
+  EXPECT_EQ(s.at("render").at("traced_width"), 120);
+  EXPECT_EQ(s.at("render").at("traced_spp"), 1);
   const Image cmp = read_image(dir_ / "pink" / "comparison.png");
   EXPECT_GE(cmp.width, 3 * 120);
   const Image fid = read_image(dir_ / "pink" / "fidelity.png");

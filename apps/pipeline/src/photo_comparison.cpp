@@ -83,11 +83,14 @@ PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, con
                 std::to_string(layout.image_height) + " image");
   Image photo_panel = crop_photo(photo, c.crop);
   const glm::vec3 bg = background_colour(photo, photo_panel);
-  view.width = c.crop.width;
-  view.height = c.crop.height;
-  view.camera = crop_camera(picked, c.crop);
+  c.render_grid = render_grid_for(c.crop);
+  c.render_spp = render_spp_for(view.spp, c.crop, c.render_grid);
+  view.width = c.render_grid.width;
+  view.height = c.render_grid.height;
+  view.spp = c.render_spp;
+  view.camera = crop_camera(picked, c.render_grid);
   SceneOptions so;
-  so.backdrop = photo_backdrop(bg, picked, c.crop, control_point_bounds(feather));
+  so.backdrop = photo_backdrop(bg, picked, c.render_grid, control_point_bounds(feather));
   // Expose like the photo: the card (its albedo proportional to the photo's
   // background) develops to the background's own level, so to its colour.
   view.card_level = luminance(bg);
@@ -98,7 +101,10 @@ PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, con
   view.photo_card = so.backdrop.albedo;
   view.photo_texture_absolute = layout.background != "light";
   c.panels.push_back({std::move(photo_panel), "photo"});
-  for (Panel& p : render_both_modes(feather, so, rig, view)) c.panels.push_back(std::move(p));
+  for (Panel& p : render_both_modes(feather, so, rig, view)) {
+    p.image = show_on_panel(p.image, c.render_grid, c.crop);
+    c.panels.push_back(std::move(p));
+  }
   if (!feather.albedo.texture.empty())
     for (ShadingMode mode : {ShadingMode::Hair, ShadingMode::Substructure})
       c.inversion.push_back(view_material(feather, view, mode).count_inversion());
@@ -133,6 +139,10 @@ nlohmann::json fidelity_json(const PhotoComparison& c) {
                 {"height", c.crop.height},
                 {"photo_origin_px", {c.crop.origin_px.x, c.crop.origin_px.y}},
                 {"photo_px_per_panel_px", c.crop.px_per_panel_px}};
+  j["panel"]["render_grid"] = {{"width", c.render_grid.width},
+                                {"height", c.render_grid.height},
+                                {"photo_px_per_render_px", c.render_grid.px_per_panel_px},
+                                {"spp", c.render_spp}};
   for (std::size_t i = 1; i < c.panels.size(); ++i) {
     j[c.panels[i].label] = to_json(c.fidelity[i - 1]);
     if (i - 1 < c.inversion.size()) {

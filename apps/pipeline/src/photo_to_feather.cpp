@@ -126,8 +126,13 @@ void photo_to_feather(const PhotoToFeatherSettings& o, const StageReport& report
       if (o.fidelity_image) written.push_back(fidelity_path);
       const auto& h = comparison.fidelity.at(0).feather;
       const auto& sub = comparison.fidelity.at(1).feather;
+      const PhotoCrop& g = comparison.render_grid;
+      const bool own_grid = g.width != comparison.crop.width || g.height != comparison.crop.height;
       return std::to_string(comparison.crop.width) + "x" + std::to_string(comparison.crop.height) + " per panel, " +
-             std::to_string(sampling.spp) + " spp -> comparison.png" + (o.fidelity_image ? ", fidelity.png" : "") +
+             (own_grid ? "traced at the photo's " + std::to_string(g.width) + "x" + std::to_string(g.height) + ", " +
+                             std::to_string(comparison.render_spp) + " spp"
+                       : std::to_string(sampling.spp) + " spp") +
+             " -> comparison.png" + (o.fidelity_image ? ", fidelity.png" : "") +
              "; silhouette IoU hair " + fixed(h.iou, 3) + ", substructure " + fixed(sub.iou, 3) +
              "; colour dE2000 hair " + fixed(h.mean_colour_de2000, 1) + ", substructure " +
              fixed(sub.mean_colour_de2000, 1);
@@ -151,7 +156,10 @@ void photo_to_feather(const PhotoToFeatherSettings& o, const StageReport& report
       j["render"] = {{"spp", sampling.spp},
                      {"seed", sampling.seed},
                      {"panel_width", comparison.crop.width},
-                     {"panel_height", comparison.crop.height}};
+                     {"panel_height", comparison.crop.height},
+                     {"traced_width", comparison.render_grid.width},
+                     {"traced_height", comparison.render_grid.height},
+                     {"traced_spp", comparison.render_spp}};
       j["fidelity"] = fidelity_json(comparison);
       nlohmann::json st = nlohmann::json::array();
       for (const auto& [name, s] : stages.seconds()) st.push_back({{"stage", name}, {"seconds", s}});

@@ -84,6 +84,42 @@ Image crop_photo(const Image& photo, const PhotoCrop& crop) {
   return out;
 }
 
+PhotoCrop render_grid_for(const PhotoCrop& shown) {
+  const double s = shown.px_per_panel_px;
+  if (s >= 1) return shown;
+  const glm::dvec2 end = shown.origin_px + s * glm::dvec2(shown.width, shown.height);
+  const double longer = std::max(end.x - shown.origin_px.x, end.y - shown.origin_px.y);
+  const int finest = std::max(1, int(std::floor(1.0 / s)));
+  const int factor = std::clamp(int(std::ceil(kMinRenderSide / std::max(longer, 1e-9))), 1, finest);
+  PhotoCrop g;
+  g.px_per_panel_px = 1.0 / factor;
+  const glm::dvec2 first = glm::floor(shown.origin_px * double(factor));
+  const glm::dvec2 last = glm::ceil(end * double(factor));
+  g.origin_px = first / double(factor);
+  g.width = std::max(1, int(last.x - first.x));
+  g.height = std::max(1, int(last.y - first.y));
+  return g;
+}
+
+int render_spp_for(int spp, const PhotoCrop& shown, const PhotoCrop& grid) {
+  const double ratio = double(shown.width) * shown.height / (double(grid.width) * grid.height);
+  if (!(ratio > 1)) return spp;
+  const double want = std::min(4096.0, spp * ratio);
+  const int rounded = 1 << int(std::lround(std::log2(want)));
+  return std::clamp(rounded, spp, std::max(spp, 4096));
+}
+
+Image show_on_panel(const Image& render, const PhotoCrop& grid, const PhotoCrop& shown) {
+  if (grid.width == shown.width && grid.height == shown.height && grid.px_per_panel_px == shown.px_per_panel_px &&
+      grid.origin_px == shown.origin_px)
+    return render;
+  // In the grid's own pixels: its origin at 0, its pixels of side 1.
+  PhotoCrop on_grid = shown;
+  on_grid.origin_px = (shown.origin_px - grid.origin_px) / grid.px_per_panel_px;
+  on_grid.px_per_panel_px = shown.px_per_panel_px / grid.px_per_panel_px;
+  return crop_photo(render, on_grid);
+}
+
 CameraSpec crop_camera(const FeatherLayout& f, const PhotoCrop& crop) {
   const glm::dmat3x2& A = f.feather_from_image;
   const double s = crop.px_per_panel_px;

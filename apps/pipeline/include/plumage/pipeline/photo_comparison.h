@@ -48,7 +48,9 @@ std::vector<Panel> light_sequence_sheets(const Feather& feather, SceneOptions sc
 // The photo, cropped around the picked feather, and the feather's renders in the
 // same pose (photo_view.h), with their fidelity against the photo.
 struct PhotoComparison {
-  PhotoCrop crop;
+  PhotoCrop crop;         // the panels
+  PhotoCrop render_grid;  // what the renders were traced on (render_grid_for), then shown on the panels
+  int render_spp = 0;     // samples per pixel of render_grid
   PanelRegions regions;
   std::vector<Panel> panels;  // photo, hair, substructure
   FidelitySettings settings;
@@ -60,7 +62,9 @@ struct PhotoComparison {
 // `view` gives the sampling, lights, threads and the folder the feather's texture
 // path is relative to; its size, camera and exposure are set here (panels `size`
 // pixels along their longer side, the crop's camera, the card developed to the
-// photo's background colour).
+// photo's background colour). Where the photo holds fewer pixels than the panel,
+// the renders are traced on the photo's grid with the panel's samples gathered
+// there (render_grid_for, render_spp_for) and then shown at panel size.
 PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, const FeatherLayout& picked,
                                    const Feather& feather, const DomeRig& rig, ViewSpec view, int size,
                                    const FidelitySettings& settings = {});

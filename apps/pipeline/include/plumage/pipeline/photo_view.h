@@ -29,6 +29,25 @@ PhotoCrop crop_for(const Layout& layout, const FeatherLayout& feather, int size,
 // photo over its footprint.
 Image crop_photo(const Image& photo, const PhotoCrop& crop);
 
+// The pixel grid the renders of `shown` are traced on (docs/analysis.md, "One
+// pose"): `shown` itself where a panel pixel is no smaller than a photo pixel;
+// otherwise the photo's own pixel grid over the crop (whole photo pixels, its
+// origin on the photo's pixel corners), refined by the smallest whole factor that
+// gives it at least kMinRenderSide pixels along its longer side, never finer than
+// the panel. A feather that spans few photo pixels is then traced at the detail the
+// photo holds, and each of its pixels gathers the samples of several panel pixels.
+inline constexpr int kMinRenderSide = 160;
+PhotoCrop render_grid_for(const PhotoCrop& shown);
+
+// Samples per pixel on `grid` that spend what `spp` per pixel of `shown` would
+// (the nearest power of two, for the Sobol sampler; at least `spp`, at most 4096).
+int render_spp_for(int spp, const PhotoCrop& shown, const PhotoCrop& grid);
+
+// An image traced on `grid` shown on the panel `shown`: each panel pixel the
+// area-weighted mean of the render over its footprint (crop_photo's rule); the
+// image itself when the grids are the same.
+Image show_on_panel(const Image& render, const PhotoCrop& grid, const PhotoCrop& shown);
+
 // The orthographic top view that sees exactly the crop. Throws plumage::Error when
 // the layout's transform mirrors the photo (the camera cannot see a mirror image).
 CameraSpec crop_camera(const FeatherLayout& feather, const PhotoCrop& crop);
