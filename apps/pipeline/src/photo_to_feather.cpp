@@ -127,7 +127,7 @@ void photo_to_feather(const PhotoToFeatherSettings& o, const StageReport& report
       const auto& h = comparison.fidelity.at(0).feather;
       const auto& sub = comparison.fidelity.at(1).feather;
       const PhotoCrop& g = comparison.render_grid;
-      const bool own_grid = g.width != comparison.crop.width || g.height != comparison.crop.height;
+      const bool own_grid = g != comparison.crop;
       return std::to_string(comparison.crop.width) + "x" + std::to_string(comparison.crop.height) + " per panel, " +
              (own_grid ? "traced at the photo's " + std::to_string(g.width) + "x" + std::to_string(g.height) + ", " +
                              std::to_string(comparison.render_spp) + " spp"

@@ -88,7 +88,7 @@ PhotoCrop render_grid_for(const PhotoCrop& shown) {
   const double s = shown.px_per_panel_px;
   if (s >= 1) return shown;
   const glm::dvec2 end = shown.origin_px + s * glm::dvec2(shown.width, shown.height);
-  const double longer = std::max(end.x - shown.origin_px.x, end.y - shown.origin_px.y);
+  const double longer = s * std::max(shown.width, shown.height);  // in photo pixels
   const int finest = std::max(1, int(std::floor(1.0 / s)));
   const int factor = std::clamp(int(std::ceil(kMinRenderSide / std::max(longer, 1e-9))), 1, finest);
   PhotoCrop g;
@@ -110,9 +110,7 @@ int render_spp_for(int spp, const PhotoCrop& shown, const PhotoCrop& grid) {
 }
 
 Image show_on_panel(const Image& render, const PhotoCrop& grid, const PhotoCrop& shown) {
-  if (grid.width == shown.width && grid.height == shown.height && grid.px_per_panel_px == shown.px_per_panel_px &&
-      grid.origin_px == shown.origin_px)
-    return render;
+  if (grid == shown) return render;
   // In the grid's own pixels: its origin at 0, its pixels of side 1.
   PhotoCrop on_grid = shown;
   on_grid.origin_px = (shown.origin_px - grid.origin_px) / grid.px_per_panel_px;

@@ -17,6 +17,7 @@ struct PhotoCrop {
   glm::dvec2 origin_px{0};   // photo pixel coordinates of the panels' top-left corner
   double px_per_panel_px = 1;  // photo pixels per panel pixel (both axes)
   int width = 0, height = 0;   // panel size in pixels
+  bool operator==(const PhotoCrop&) const = default;  // the same pixel grid
 };
 
 // The picked feather's bounding box grown by `margin` (a fraction of its larger
