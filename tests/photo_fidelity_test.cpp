@@ -152,6 +152,35 @@ TEST(PhotoView, CropAveragesThePhotoOverEachPanelPixel) {
   EXPECT_NEAR(one.rgb(3, 3).x, 0.5f, 1e-6f);
 }
 
+TEST(PhotoView, TheCardIsReadInsideAScansEdgeLine) {
+  // A mid-grey card (as the peregrine sheet's) whose scan has a one-pixel bright
+  // line along every edge, with a dark feather across the middle: the card is
+  // the grey, not the line, both for the whole photo and near the feather.
+  const glm::vec3 card(0.16f, 0.15f, 0.15f), line(0.62f, 0.60f, 0.60f), feather(0.03f);
+  Image photo(400, 300, 3, 0.0f);
+  for (int y = 0; y < photo.height; ++y)
+    for (int x = 0; x < photo.width; ++x) {
+      const bool edge = x == 0 || y == 0 || x == photo.width - 1 || y == photo.height - 1;
+      photo.set_rgb(x, y, edge ? line : (y > 140 && y < 160 && x > 20 && x < 380 ? feather : card));
+    }
+  EXPECT_NEAR(ring_median(photo, [](int, int, const glm::vec3&) { return true; }, 1, 4)->x, card.x, 1e-6f);
+  EXPECT_NEAR(ring_median(photo, [](int, int, const glm::vec3&) { return true; })->x, line.x, 1e-6f)
+      << "the outermost ring alone is the line";
+  // A panel that touches the photo's left edge, as a sheet's first column does.
+  PhotoCrop crop;
+  crop.origin_px = {0, 100};
+  crop.px_per_panel_px = 1;
+  crop.width = 400, crop.height = 100;
+  const glm::vec3 bg = background_colour(photo, crop_photo(photo, crop));
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(bg[k], card[k], 1e-6f) << "channel " << k;
+  // Each pixel of a deep frame counts once, even where the frame covers the image.
+  Image tiny(3, 2, 3, 0.25f);
+  tiny.set_rgb(1, 1, glm::vec3(1.0f));
+  int seen = 0;
+  ring_median(tiny, [&](int, int, const glm::vec3&) { return ++seen, true; }, 1, 5);
+  EXPECT_EQ(seen, 6);
+}
+
 TEST(PhotoView, RendersAreTracedOnThePhotosGridWhereItIsCoarser) {
   PhotoCrop shown;
   shown.origin_px = {10.3, 20.6};

@@ -97,15 +97,25 @@ Image gaussian_blur(const Image& img, float sigma) {
 
 std::optional<glm::vec3> ring_median(const Image& img,
                                      const std::function<bool(int x, int y, const glm::vec3& c)>& keep,
-                                     std::size_t min_count) {
+                                     std::size_t min_count, int depth) {
   std::vector<float> ring[3];
   const auto take = [&](int x, int y) {
     const glm::vec3 c = img.rgb(x, y);
     if (!keep(x, y, c)) return;
     for (int k = 0; k < 3; ++k) ring[k].push_back(c[k]);
   };
-  for (int x = 0; x < img.width; ++x) take(x, 0), take(x, img.height - 1);
-  for (int y = 1; y + 1 < img.height; ++y) take(0, y), take(img.width - 1, y);
+  // Each pixel once, however deep the frame and however small the image.
+  const int d = std::clamp(depth, 1, std::max(1, (std::min(img.width, img.height) + 1) / 2));
+  for (int y = 0; y < img.height; ++y) {
+    const bool row = y < d || y >= img.height - d;
+    for (int x = 0; x < img.width; ++x) {
+      if (row || x < d || x >= img.width - d) {
+        take(x, y);
+      } else {
+        x = img.width - d - 1;  // on to the row's right-hand frame
+      }
+    }
+  }
   if (ring[0].empty() || ring[0].size() < min_count) return std::nullopt;
   glm::vec3 m;
   for (int k = 0; k < 3; ++k) {

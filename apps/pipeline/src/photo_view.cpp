@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "plumage/common/error.h"
+#include "plumage/generator/analysis/analyze.h"
 
 namespace plumage {
 
@@ -143,7 +144,8 @@ CameraSpec crop_camera(const FeatherLayout& f, const PhotoCrop& crop) {
 }
 
 glm::vec3 background_colour(const Image& photo, const Image& photo_panel) {
-  const glm::vec3 whole = *ring_median(photo, [](int, int, const glm::vec3&) { return true; });
+  const glm::vec3 whole = *ring_median(photo, [](int, int, const glm::vec3&) { return true; }, 1,
+                                       border_frame_px(photo.width, photo.height));
   const glm::vec3 whole_lab = linear_rgb_to_lab(whole);
   const std::size_t ring = 2 * std::size_t(photo_panel.width) + 2 * std::size_t(std::max(0, photo_panel.height - 2));
   const auto local = ring_median(

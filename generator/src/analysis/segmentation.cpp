@@ -10,6 +10,7 @@
 
 #include "plumage/common/constants.h"
 #include "plumage/common/median.h"
+#include "plumage/generator/analysis/analyze.h"
 #include "steps.h"
 
 namespace plumage::analysis {
@@ -17,7 +18,7 @@ namespace {
 
 // Median colour and luminance spread of a frame of pixels along the border.
 void border_statistics(const cv::Mat& bgr, cv::Vec3d& median, double& sigma) {
-  const int b = std::max(2, std::min(bgr.cols, bgr.rows) / 100);
+  const int b = border_frame_px(bgr.cols, bgr.rows);
   std::vector<uchar> ch[3];
   std::vector<double> luma;
   auto take = [&](int x, int y) {

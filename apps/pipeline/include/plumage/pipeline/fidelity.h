@@ -32,11 +32,11 @@ glm::vec3 linear_rgb_to_lab(const glm::vec3& rgb);
 // CIE ΔE 2000 (Sharma, Wu & Dalal 2005) between two CIELAB colours.
 double ciede2000(const glm::vec3& lab1, const glm::vec3& lab2);
 
-// Per-channel median of the image's outermost ring of pixels, over those for which
-// keep(x, y, colour) holds; nothing when fewer than `min_count` do.
+// Per-channel median of the image's outermost `depth` rings of pixels, over those
+// for which keep(x, y, colour) holds; nothing when fewer than `min_count` do.
 std::optional<glm::vec3> ring_median(const Image& img,
                                      const std::function<bool(int x, int y, const glm::vec3& c)>& keep,
-                                     std::size_t min_count = 1);
+                                     std::size_t min_count = 1, int depth = 1);
 
 // Separable Gaussian of standard deviation `sigma` pixels (edges clamped); RGB out.
 Image gaussian_blur(const Image& img, float sigma);

@@ -57,7 +57,9 @@ CameraSpec crop_camera(const FeatherLayout& feather, const PhotoCrop& crop);
 // median of the photo panel's outermost ring of pixels, counting only those within
 // kBackgroundDe (ΔE 2000) of the whole photo's border median, so that neighbouring
 // feathers on a sheet do not count; the whole photo's border median when fewer
-// than a tenth of the ring (and 8 pixels) qualify.
+// than a tenth of the ring (and 8 pixels) qualify. The whole photo's border is the
+// analysis's frame (border_frame_px), not its outermost ring, which on a scan is
+// often the scanner's bright edge line.
 inline constexpr double kBackgroundDe = 15.0;
 glm::vec3 background_colour(const Image& photo, const Image& photo_panel);
 

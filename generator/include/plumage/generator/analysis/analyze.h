@@ -2,6 +2,7 @@
 // Photo analysis (DESIGN §8): a photograph of one feather, or a sheet of several,
 // to a Layout plus the images a person checks it with. OpenCV stays inside
 // generator/src/analysis; this interface speaks plumage::Image only.
+#include <algorithm>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -23,6 +24,12 @@ struct AnalyzeOptions {
   double refuse_megapixels = 400.0;  // memory guard: larger photos are refused unread
   int stations = 24;                 // profile samples along the shaft
 };
+
+// How deep the frame along a photo's border is from which its card colour is
+// read: a scan's outermost rows and columns are often a bright or dark line (the
+// scanner's lid, the sheet's cut edge), which a one-pixel ring would take for the
+// card; a frame a hundredth of the shorter side deep is mostly card.
+inline int border_frame_px(int width, int height) { return std::max(2, std::min(width, height) / 100); }
 
 struct PhotoAnalysis {
   Layout layout;  // albedo files are "featherK.albedo.png" until write_analysis names them
