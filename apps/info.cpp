@@ -104,7 +104,10 @@ void print_json(std::ostream& out, const std::string& file, const Feather& f, co
                                 decimal(f.albedo.rect_max.x), decimal(f.albedo.rect_max.y)}}};
   const auto rgb = [&](const glm::vec3& c) { return nlohmann::json::array({decimal(c.x), decimal(c.y), decimal(c.z)}); };
   if (f.albedo.scale != 1.0f) j["albedo"]["scale"] = decimal(f.albedo.scale);
-  if (f.albedo.shaft) j["albedo"]["shaft"] = rgb(*f.albedo.shaft);
+  if (!f.albedo.shaft.empty()) {  // from the root to the tip
+    j["albedo"]["shaft"] = nlohmann::json::array();
+    for (const glm::vec3& c : f.albedo.shaft) j["albedo"]["shaft"].push_back(rgb(c));
+  }
   j["medulla"] = {{"ratio", decimal(f.medulla.ratio)},
                   {"sigma_s", rgb(f.medulla.sigma_s)},
                   {"sigma_a", rgb(f.medulla.sigma_a)}};
@@ -151,8 +154,13 @@ void print_text(std::ostream& out, const std::string& file, const Feather& f, co
         << num(f.albedo.rect_max.x) << "] y [" << num(f.albedo.rect_min.y) << ", " << num(f.albedo.rect_max.y)
         << "] mm";
   if (f.albedo.scale != 1.0f) out << ", times " << num(f.albedo.scale);
-  if (f.albedo.shaft)
-    out << "; shaft " << num(f.albedo.shaft->x) << " " << num(f.albedo.shaft->y) << " " << num(f.albedo.shaft->z);
+  if (!f.albedo.shaft.empty()) {
+    const auto colour = [&](const glm::vec3& c) { return num(c.x) + " " + num(c.y) + " " + num(c.z); };
+    out << "; shaft " << colour(f.albedo.shaft.front());
+    if (f.albedo.shaft.size() > 1)
+      out << " at the root to " << colour(f.albedo.shaft.back()) << " at the tip (" << f.albedo.shaft.size()
+          << " stations)";
+  }
   out << "\n";
   row("medulla");
   if (f.medulla.ratio > 0)

@@ -132,6 +132,12 @@ std::vector<Malformed> malformed_files() {
        "'albedo' record is incomplete: expected 'albedo color R G B'"},
       {"albedo colour twice", insert_before(6, "albedo color 1 1 1"), 6, 1,
        "second 'albedo color' record (first on line 5)"},
+      {"shaft colour with a partial triple", insert_before(6, "albedo shaft 1 1 1 0.5 0.5"), 6, 27,
+       "'albedo shaft' record is incomplete: expected whole R G B triples (5 numbers given)"},
+      {"shaft colour too short", insert_before(6, "albedo shaft 1 1"), 6, 17,
+       "'albedo' record is incomplete: expected 'albedo shaft R G B [R G B ...]'"},
+      {"shaft colour negative at a station", insert_before(6, "albedo shaft 1 1 1 0.5 -0.5 0.5"), 6, 24,
+       "albedo shaft colour: must not be negative, found '-0.5'"},
       {"texture rectangle inverted", insert_before(6, "albedo texture \"a.png\" 0 0 -1 1"), 6, 28,
        "albedo texture: XMAX must be greater than XMIN"},
       {"texture name empty", insert_before(6, "albedo texture \"\" 0 0 1 1"), 6, 16,
@@ -501,4 +507,27 @@ TEST(CurveFormat, SpecExampleParses) {
   EXPECT_EQ(f.albedo.texture, "albedo.png");
   EXPECT_EQ(f.right.elevation_deg, 42.5f);
   EXPECT_EQ(parse_fcurves(format_fcurves(f)), f);
+}
+
+TEST(CurveFormat, ShaftColoursAlongTheShaftReadBackAndAreBounded) {
+  Feather f;
+  f.albedo.shaft = {glm::vec3(0.9f, 0.85f, 0.8f), glm::vec3(0.05f, 0.04f, 0.03f), glm::vec3(0.1f)};
+  const Feather back = parse_fcurves(format_fcurves(f), "shaft.fcurves");
+  EXPECT_EQ(back.albedo.shaft, f.albedo.shaft);
+  // One colour more than kMaxShaftColours is refused, naming the first extra number.
+  std::string line = "albedo shaft";
+  for (std::size_t k = 0; k <= kMaxShaftColours; ++k) line += " 0.5 0.5 0.5";
+  const std::string text = "fcurves 1\nunits mm\n" + line + "\ncurves 0\n";
+  try {
+    parse_fcurves(text, "many.fcurves");
+    FAIL() << "accepted " << kMaxShaftColours + 1 << " shaft colours";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("many.fcurves:3:" + std::to_string(14 + 12 * kMaxShaftColours)),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("more than 256 colours"), std::string::npos) << e.what();
+  }
+  Feather too_many;
+  too_many.albedo.shaft.assign(kMaxShaftColours + 1, glm::vec3(0.5f));
+  EXPECT_THROW(format_fcurves(too_many), Error) << "the writer refuses what the reader would";
 }

@@ -172,7 +172,7 @@ TEST_F(CurvesCli, InfoSummarisesTheFeather) {
   // A feather with a medulla, a shaft colour and a texture scale says them.
   Feather pale = feather_;
   pale.medulla = {0.7f, glm::vec3(4.0f), glm::vec3(0.0f, 0.5f, 0.0f)};
-  pale.albedo.shaft = glm::vec3(0.9f, 0.2f, 0.1f);
+  pale.albedo.shaft = {glm::vec3(0.9f, 0.2f, 0.1f)};
   pale.albedo.scale = 2.0f;
   write_fcurves(dir_ / "pale.fcurves", pale);
   const Result pr = run("info " + path("pale.fcurves"));
@@ -182,7 +182,7 @@ TEST_F(CurvesCli, InfoSummarisesTheFeather) {
   const auto pj = nlohmann::json::parse(run("info --json " + path("pale.fcurves")).out);
   EXPECT_EQ(pj["medulla"]["ratio"], 0.7);
   EXPECT_EQ(pj["medulla"]["sigma_a"][1], 0.5);
-  EXPECT_EQ(pj["albedo"]["shaft"][0], 0.9);
+  EXPECT_EQ(pj["albedo"]["shaft"][0][0], 0.9);
   EXPECT_EQ(pj["albedo"]["scale"], 2.0);
   // The shaft of the sample runs along +Y: its length is at least the straight
   // distance between the curve's end points and less than its control polygon.

@@ -124,7 +124,9 @@ inline Feather random_feather(std::mt19937_64& rng) {
     f.albedo.rect_max = {std::max(a, b), std::max(a, b)};
   }
   if (rng() % 2) f.albedo.scale = 1.0f + 7.0f * unit_interval(rng);  // paler than the paper: [1, 8]
-  if (rng() % 2) f.albedo.shaft = glm::vec3(extreme_nonneg(rng), extreme_nonneg(rng), extreme_nonneg(rng));
+  if (rng() % 2)  // one colour, or several along the shaft
+    for (std::size_t k = 0, n = 1 + rng() % 4; k < n; ++k)
+      f.albedo.shaft.push_back(glm::vec3(extreme_nonneg(rng), extreme_nonneg(rng), extreme_nonneg(rng)));
   if (rng() % 2) {  // a medulla: ratio in [0, 1), coefficients anywhere >= 0
     f.medulla.ratio = std::min(unit_interval(rng), std::nextafter(1.0f, 0.0f));
     f.medulla.sigma_s = {extreme_nonneg(rng), extreme_nonneg(rng), extreme_nonneg(rng)};

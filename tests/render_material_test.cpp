@@ -398,11 +398,48 @@ TEST(RenderMaterial, RibbonLayersCountTheBarbsOverAPoint) {
   EXPECT_EQ(textured.ribbon_layers(hit), 1);
 }
 
+TEST(RenderMaterial, TheShaftsColourFollowsItsStations) {
+  // A white quill below a black rachis: two stations, at a quarter and three
+  // quarters of the shaft's length, linear in between. The straight shaft's
+  // B-spline (control points at x = -6, -2, 2, 6) runs from x = -2 (its root) to 2.
+  const Curve shaft = test::straight_curve(CurveKind::Shaft, {0, 0, 0}, 6, 0.6f);
+  Albedo albedo;
+  albedo.shaft = {glm::vec3(1.0f), glm::vec3(0.0f)};
+  const AlbedoMap map(albedo, ".", &shaft);
+  ASSERT_TRUE(map.has_shaft_colour());
+  EXPECT_NEAR(map.shaft_colour({-2, 0, 0}).x, 1.0f, 1e-5f);
+  EXPECT_NEAR(map.shaft_colour({-1.5f, 0, 0}).x, 1.0f, 1e-5f);
+  EXPECT_NEAR(map.shaft_colour({-0.5f, 0, 0}).x, 0.75f, 1e-5f);
+  EXPECT_NEAR(map.shaft_colour({0, 0.5f, 0.3f}).x, 0.5f, 1e-5f) << "a point beside the shaft takes its nearest station's colour";
+  EXPECT_NEAR(map.shaft_colour({1.5f, 0, 0}).x, 0.0f, 1e-5f);
+  EXPECT_NEAR(map.shaft_colour({-9, 0, 0}).x, 1.0f, 1e-5f) << "beyond the root";
+  // Without the curve the stations cannot be placed: their mean.
+  EXPECT_NEAR(AlbedoMap(albedo, ".").shaft_colour({-2, 0, 0}).x, 0.5f, 1e-6f);
+  // The material's shaft fibre follows: light at the root, dark at the tip.
+  const FibreMaterial m(HairParams{}, AlbedoMap(albedo, ".", &shaft));
+  EXPECT_LT(m.at_shaft({-1.8f, 0, 0}).sigma_a.x, m.at_shaft({1.8f, 0, 0}).sigma_a.x);
+}
+
+TEST(ShaftColour, StationsAreCentredOnEqualStretches) {
+  const std::vector<glm::vec3> three = {glm::vec3(0.0f), glm::vec3(3.0f), glm::vec3(6.0f)};
+  EXPECT_EQ(shaft_colour_at(three, 0.0f).x, 0.0f);
+  EXPECT_EQ(shaft_colour_at(three, 1.0f / 6.0f).x, 0.0f);
+  EXPECT_NEAR(shaft_colour_at(three, 0.5f).x, 3.0f, 1e-5f);
+  EXPECT_NEAR(shaft_colour_at(three, 2.0f / 3.0f).x, 4.5f, 1e-5f);
+  EXPECT_EQ(shaft_colour_at(three, 1.0f).x, 6.0f);
+  EXPECT_EQ(shaft_colour_at({glm::vec3(2.0f)}, 0.7f).x, 2.0f);
+  // Extreme fractions stay at the ends and finite.
+  for (float f : {-INFINITY, -1e30f, std::nanf(""), 1e30f, INFINITY}) {
+    const float v = shaft_colour_at(three, f).x;
+    EXPECT_TRUE(v == 0.0f || v == 6.0f) << f << " gave " << v;
+  }
+}
+
 TEST(RenderMaterial, TheShaftTakesItsOwnColour) {
   // A thick shaft alone over a grey card, its feather textured mid-grey: with
   // Albedo::shaft white it renders light, black dark, and without one as the texture
   // (at_shaft falls back to at). The material says the same fibre by fibre.
-  const auto render_shaft = [](std::optional<glm::vec3> shaft) {
+  const auto render_shaft = [](std::vector<glm::vec3> shaft) {
     Feather f;
     f.curves.push_back(test::straight_curve(CurveKind::Shaft, {0, 0, 0}, 6, 0.6f));
     const fs::path tex = fs::temp_directory_path() / ("plumage_shaft_albedo_" + std::to_string(::getpid()) + ".png");
@@ -415,8 +452,8 @@ TEST(RenderMaterial, TheShaftTakesItsOwnColour) {
     f.albedo.rect_max = {20, 20};
     f.albedo.shaft = shaft;
     const FibreMaterial m(HairParams{}, AlbedoMap(f.albedo, "."));
-    if (shaft) {
-      EXPECT_EQ(m.at_shaft({0, 0, 0}).sigma_a, sigma_a_from_layer_albedo(*shaft, HairParams{}.eta));
+    if (!shaft.empty()) {
+      EXPECT_EQ(m.at_shaft({0, 0, 0}).sigma_a, sigma_a_from_layer_albedo(shaft[0], HairParams{}.eta));
     } else {
       EXPECT_EQ(m.at_shaft({0, 0, 0}).sigma_a, m.at({0, 0, 0}).sigma_a);
     }
@@ -437,7 +474,7 @@ TEST(RenderMaterial, TheShaftTakesItsOwnColour) {
     fs::remove(tex);
     return mean_channel(img, 1);
   };
-  const double white = render_shaft(glm::vec3(1.0f)), black = render_shaft(glm::vec3(0.0f)), none = render_shaft(std::nullopt);
+  const double white = render_shaft({glm::vec3(1.0f)}), black = render_shaft({glm::vec3(0.0f)}), none = render_shaft({});
   EXPECT_GT(white, 1.5 * none);
   EXPECT_LT(black, 0.8 * none);
 }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/glm.hpp>
+#include <optional>
 #include <random>
 
 #include "plumage/common/constants.h"
@@ -34,6 +35,9 @@ struct SyntheticFeather {
   // How far the rachis colour is from the vane's (1: the default dark rachis,
   // smaller: a faint one).
   float rachis_contrast = 1;
+  // The bare quill below the vane in its own colour (sRGB; a white calamus below a
+  // dark rachis); unset: the rachis's.
+  std::optional<glm::vec3> calamus_colour;
   // A downy base: over this fraction of the vane from its base, on side
   // `downy_side` (-1 left, +1 right, 0 both), the barbs are soft and faint
   // (downy_contrast times barb_contrast). 0: none.
@@ -44,6 +48,8 @@ struct SyntheticFeather {
   glm::dvec2 dir() const { return {std::cos(dir_deg * kPi / 180), std::sin(dir_deg * kPi / 180)}; }
   glm::dvec2 right() const { return {-dir().y, dir().x}; }  // feather +X, tip up
   glm::dvec2 tip() const { return calamus + dir() * length; }
+  // How far along the shaft from the calamus an image point lies.
+  double along(double x, double y) const { return glm::dot(glm::dvec2(x, y) - calamus, dir()); }
   double vane_start() const { return 0.2 * length; }
   double half_width(double y, int side) const {
     if (y < vane_start() || y > length) return 0.0;
@@ -92,7 +98,9 @@ struct SyntheticFeather {
             double shade;
             const int c = classify({x + (sx + 0.5) / 3.0, y + (sy + 0.5) / 3.0}, shade);
             acc += c == 0   ? bg
-                   : c == 2 ? rachis
+                   : c == 2 ? (calamus_colour && along(x + (sx + 0.5) / 3.0, y + (sy + 0.5) / 3.0) < vane_start()
+                                   ? *calamus_colour
+                                   : rachis)
                    : c == 3 ? glm::mix(vane, glm::vec3(1.f), 0.6f)
                    : c == 4 ? bg * 0.8f
                             : vane * float(shade);

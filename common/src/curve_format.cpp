@@ -65,8 +65,11 @@ void validate_feather(const Feather& f) {
   };
   if (!finite3(f.albedo.color) || f.albedo.color.x < 0 || f.albedo.color.y < 0 || f.albedo.color.z < 0)
     fail("albedo colour must be finite and non-negative");
-  if (f.albedo.shaft && (!finite3(*f.albedo.shaft) || f.albedo.shaft->x < 0 || f.albedo.shaft->y < 0 || f.albedo.shaft->z < 0))
-    fail("albedo shaft colour must be finite and non-negative");
+  if (f.albedo.shaft.size() > kMaxShaftColours)
+    fail("albedo shaft has " + std::to_string(f.albedo.shaft.size()) + " colours; at most " +
+         std::to_string(kMaxShaftColours));
+  for (const glm::vec3& c : f.albedo.shaft)
+    if (!finite3(c) || c.x < 0 || c.y < 0 || c.z < 0) fail("albedo shaft colour must be finite and non-negative");
   if (!(f.albedo.scale >= 1 && f.albedo.scale <= kMaxAlbedoScale))
     fail("albedo scale must lie in [1, 8] (a texel times it is the albedo)");
   if (!(f.medulla.ratio >= 0 && f.medulla.ratio < 1))
@@ -325,10 +328,21 @@ void Reader::parse_albedo(Feather& f) {
     if (shaft_colour_line_)
       fail(tok_[0], "second 'albedo shaft' record (first on line " + std::to_string(shaft_colour_line_) + ")");
     shaft_colour_line_ = line_no_;
-    expect_count(5, "albedo shaft R G B");
-    glm::vec3 c;
-    for (int i = 0; i < 3; ++i) c[i] = nonneg_float(tok_[2 + i], "albedo shaft colour");
-    f.albedo.shaft = c;
+    // One colour, or one per station along the shaft from its root: R G B [R G B ...].
+    const std::size_t given = tok_.size() - 2;
+    if (given < 3) expect_count(5, "albedo shaft R G B [R G B ...]");
+    if (given > 3 * kMaxShaftColours)
+      fail(tok_[2 + 3 * kMaxShaftColours],
+           "'albedo shaft' holds more than " + std::to_string(kMaxShaftColours) + " colours");
+    if (given % 3 != 0)
+      fail(end_column(), "'albedo shaft' record is incomplete: expected whole R G B triples (" +
+                             std::to_string(given) + " numbers given)");
+    f.albedo.shaft.clear();
+    for (std::size_t k = 0; k < given / 3; ++k) {
+      glm::vec3 c;
+      for (std::size_t i = 0; i < 3; ++i) c[int(i)] = nonneg_float(tok_[2 + 3 * k + i], "albedo shaft colour");
+      f.albedo.shaft.push_back(c);
+    }
   } else if (kind.text == "scale") {
     if (scale_line_)
       fail(tok_[0], "second 'albedo scale' record (first on line " + std::to_string(scale_line_) + ")");
@@ -623,9 +637,12 @@ std::string format_fcurves(const Feather& f) {
     }
     out += '\n';
   }
-  if (f.albedo.shaft) {
-    out += "albedo shaft ";
-    append_vec3(out, *f.albedo.shaft);
+  if (!f.albedo.shaft.empty()) {
+    out += "albedo shaft";
+    for (const glm::vec3& c : f.albedo.shaft) {
+      out += ' ';
+      append_vec3(out, c);
+    }
     out += '\n';
   }
   if (f.albedo.scale != 1.0f) {

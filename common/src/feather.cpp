@@ -97,4 +97,13 @@ std::vector<float> render_radii(const Feather& f, const Curve& c) {
   return r;
 }
 
+glm::vec3 shaft_colour_at(const std::vector<glm::vec3>& shaft, float fraction) {
+  const float n = float(shaft.size());
+  const float x = std::clamp(fraction, 0.0f, 1.0f) * n - 0.5f;  // in station indices
+  if (!(x > 0.0f)) return shaft.front();
+  const std::size_t k = std::min(std::size_t(x), shaft.size() - 1);
+  if (k + 1 >= shaft.size()) return shaft.back();
+  return glm::mix(shaft[k], shaft[k + 1], x - float(k));
+}
+
 }  // namespace plumage

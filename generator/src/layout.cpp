@@ -222,11 +222,23 @@ struct Reader {
       f.albedo.scale = number(al.at("scale"), ap + "/scale", 1.0, kMaxAlbedoScale);
     }
     if (al.contains("shaft_rgb")) {
+      // [r, g, b] for the whole shaft, or [[r, g, b], ...] from the base to the tip.
       const json& c = al.at("shaft_rgb");
-      if (!c.is_array() || c.size() != 3) fail(ap + "/shaft_rgb", "expected [r, g, b]");
-      glm::dvec3 rgb;
-      for (int i = 0; i < 3; ++i) rgb[i] = number(c[i], ap + "/shaft_rgb/" + std::to_string(i), 0.0, kMaxAlbedoScale);
-      f.albedo.shaft_rgb = rgb;
+      const std::string cp = ap + "/shaft_rgb";
+      const auto colour = [&](const json& v, const std::string& vp) {
+        if (!v.is_array() || v.size() != 3) fail(vp, "expected [r, g, b]");
+        glm::dvec3 rgb;
+        for (int i = 0; i < 3; ++i) rgb[i] = number(v[std::size_t(i)], vp + "/" + std::to_string(i), 0.0, kMaxAlbedoScale);
+        return rgb;
+      };
+      if (!c.is_array() || c.empty()) fail(cp, "expected [r, g, b] or a list of them");
+      if (c[0].is_array()) {
+        if (c.size() > kMaxShaftColours)
+          fail(cp, "more than " + std::to_string(kMaxShaftColours) + " colours");
+        for (std::size_t k = 0; k < c.size(); ++k) f.albedo.shaft_rgb.push_back(colour(c[k], cp + "/" + std::to_string(k)));
+      } else {
+        f.albedo.shaft_rgb.push_back(colour(c, cp));
+      }
     }
     f.touches_border = boolean(member(j, p, "touches_border"), p + "/touches_border");
     const json& w = member(j, p, "warnings");
@@ -294,8 +306,14 @@ std::string layout_to_json(const Layout& L) {
                              {"touches_border", f.touches_border},
                              {"warnings", f.warnings}});
     if (f.albedo.scale != 1.0) feathers.back()["albedo"]["scale"] = f.albedo.scale;  // only a feather paler than its paper
-    if (f.albedo.shaft_rgb)
-      feathers.back()["albedo"]["shaft_rgb"] = {f.albedo.shaft_rgb->x, f.albedo.shaft_rgb->y, f.albedo.shaft_rgb->z};
+    const auto rgb = [](const glm::dvec3& c) { return ojson::array({c.x, c.y, c.z}); };
+    if (f.albedo.shaft_rgb.size() == 1) {
+      feathers.back()["albedo"]["shaft_rgb"] = rgb(f.albedo.shaft_rgb[0]);
+    } else if (!f.albedo.shaft_rgb.empty()) {
+      ojson list = ojson::array();
+      for (const glm::dvec3& c : f.albedo.shaft_rgb) list.push_back(rgb(c));
+      feathers.back()["albedo"]["shaft_rgb"] = std::move(list);
+    }
   }
   ojson skipped = ojson::array();
   for (const SkippedRegion& s : L.skipped)

@@ -669,7 +669,7 @@ Feather layout_to_feather(const FeatherLayout& f, std::uint64_t seed, const std:
     feather.albedo.rect_min = glm::vec2(f.albedo.origin_mm.x, f.albedo.origin_mm.y - f.albedo.height_px * s);
     feather.albedo.rect_max = glm::vec2(f.albedo.origin_mm.x + f.albedo.width_px * s, f.albedo.origin_mm.y);
     feather.albedo.scale = float(f.albedo.scale);
-    if (f.albedo.shaft_rgb) feather.albedo.shaft = glm::vec3(*f.albedo.shaft_rgb);
+    for (const glm::dvec3& c : f.albedo.shaft_rgb) feather.albedo.shaft.push_back(glm::vec3(c));
   }
   for (VaneSide side : {VaneSide::Left, VaneSide::Right}) close_vane(feather, side);
   feather.provenance.source = "layout:" + source;

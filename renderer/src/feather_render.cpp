@@ -41,7 +41,7 @@ FibreMaterial view_material(const Feather& feather, const ViewSpec& view, Shadin
     fibre.medulla_sigma_a = feather.medulla.sigma_a;
   }
   if (!view.sigma_a) {
-    FibreMaterial m(fibre, AlbedoMap(feather.albedo, view.base_dir));
+    FibreMaterial m(fibre, AlbedoMap(feather.albedo, view.base_dir, feather.shaft()));
     if (view.photo_card) m.set_card(*view.photo_card, card_response(mode), view.photo_texture_absolute);
     return m;
   }

@@ -3,6 +3,8 @@
 // and on a light backdrop divided by the backdrop colour (white paper = 1).
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <vector>
 #include <opencv2/imgproc.hpp>
 
 #include "plumage/common/feather.h"
@@ -10,6 +12,10 @@
 #include "steps.h"
 
 namespace plumage::analysis {
+namespace {
+constexpr int kShaftStations = 16;          // the shaft's colour along it (AlbedoTexture::shaft_rgb)
+constexpr std::size_t kMinStationTexels = 4;  // fewer: the station takes its nearest neighbour's colour
+}  // namespace
 
 AlbedoResult extract_albedo(const cv::Mat& bgr, const Component& f, const glm::dmat3x2& img_from_f,
                             const BSpline2& shaft_mm, double shaft_width_mm, double mm_per_px,
@@ -64,32 +70,55 @@ AlbedoResult extract_albedo(const cv::Mat& bgr, const Component& f, const glm::d
     cv::line(shaft_mask, texel(double(i) / kSegments), texel(double(i + 1) / kSegments), cv::Scalar(255), w);
   }
   shaft_mask &= mask;
-  // The rachis's own colour, before it is painted out: the per-channel median of the
-  // middle third of the band (its edges blur into the vane), over texels wholly
-  // inside the feather. Linear, over the paper on a light backdrop.
+  // The rachis's own colour, before it is painted out, at kShaftStations stations
+  // along it (a white quill below a dark rachis, say): per station, the per-channel
+  // median of the middle third of the band (its edges blur into the vane) over the
+  // station's length of the shaft, texels wholly inside the feather. A station
+  // that too few texels show takes the nearest one's colour; with none shown, or
+  // fewer than 8 texels in all, the shaft has no colour of its own. Linear, over
+  // the paper on a light backdrop.
   {
-    cv::Mat core = cv::Mat::zeros(H, W, CV_8U), inside;
+    // Arc length along the shaft at each segment's end, for the stations.
+    std::vector<double> arc(kSegments + 1, 0.0);
+    for (int i = 0; i < kSegments; ++i)
+      arc[std::size_t(i) + 1] = arc[std::size_t(i)] + glm::length(shaft_mm.eval(double(i + 1) / kSegments) -
+                                                                  shaft_mm.eval(double(i) / kSegments));
+    cv::Mat station = cv::Mat::zeros(H, W, CV_8U), inside;  // 1 + station index; 0 off the core
     for (int i = 0; i < kSegments; ++i) {
+      const double mid = 0.5 * (arc[std::size_t(i)] + arc[std::size_t(i) + 1]) / std::max(arc.back(), 1e-12);
+      const int k = std::min(kShaftStations - 1, int(mid * kShaftStations));
       const int w = std::max(1, int(std::lround(base_px * rachis_width_fraction((i + 0.5) / kSegments)) / 3));
-      cv::line(core, texel(double(i) / kSegments), texel(double(i + 1) / kSegments), cv::Scalar(255), w);
+      cv::line(station, texel(double(i) / kSegments), texel(double(i + 1) / kSegments), cv::Scalar(k + 1), w);
     }
     cv::erode(mask == 255, inside, cv::Mat());
-    core &= inside;
-    std::vector<float> ch[3];
+    std::vector<float> ch[kShaftStations][3];
+    std::size_t total = 0;
     for (int y = 0; y < H; ++y)
       for (int x = 0; x < W; ++x)
-        if (core.at<uchar>(y, x)) {
+        if (const int k = station.at<uchar>(y, x); k > 0 && inside.at<uchar>(y, x)) {
           const cv::Vec3b p = tex.at<cv::Vec3b>(y, x);
-          for (int c = 0; c < 3; ++c) ch[c].push_back(srgb_to_linear(p[2 - c] / 255.0f));
+          for (int c = 0; c < 3; ++c) ch[k - 1][c].push_back(srgb_to_linear(p[2 - c] / 255.0f));
+          ++total;
         }
-    if (ch[0].size() >= 8) {
+    std::vector<std::optional<glm::dvec3>> seen(kShaftStations);
+    for (int k = 0; k < kShaftStations; ++k) {
+      if (ch[k][0].size() < kMinStationTexels) continue;
       glm::dvec3 rgb;
       for (int c = 0; c < 3; ++c) {
-        std::nth_element(ch[c].begin(), ch[c].begin() + ch[c].size() / 2, ch[c].end());
+        std::vector<float>& v = ch[k][c];
+        std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
         const double paper = light_background ? std::max(double(srgb_to_linear(float(bg[2 - c]) / 255.0f)), 1e-3) : 1.0;
-        rgb[c] = std::min(double(ch[c][ch[c].size() / 2]) / paper, kMaxAlbedoScale);
+        rgb[c] = std::min(double(v[v.size() / 2]) / paper, kMaxAlbedoScale);
       }
-      out.shaft_rgb = rgb;
+      seen[std::size_t(k)] = rgb;
+    }
+    if (total >= 8 && std::any_of(seen.begin(), seen.end(), [](const auto& c) { return c.has_value(); })) {
+      for (int k = 0; k < kShaftStations; ++k) {
+        int best = -1;
+        for (int j = 0; j < kShaftStations; ++j)
+          if (seen[std::size_t(j)] && (best < 0 || std::abs(j - k) < std::abs(best - k))) best = j;
+        out.shaft_rgb.push_back(*seen[std::size_t(best)]);
+      }
     }
   }
   // Fill from the vane either side (normalised convolution over valid texels).

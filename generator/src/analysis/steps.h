@@ -162,7 +162,7 @@ struct AlbedoResult {
   glm::dvec2 origin_mm{0.0};
   double mm_per_texel = 0;
   double scale = 1.0;  // > 1 where the feather is paler than the paper (AlbedoTexture::scale)
-  std::optional<glm::dvec3> shaft_rgb;  // the rachis's own colour (AlbedoTexture::shaft_rgb)
+  std::vector<glm::dvec3> shaft_rgb;  // the rachis's own colour along it (AlbedoTexture::shaft_rgb)
 };
 AlbedoResult extract_albedo(const cv::Mat& bgr, const Component& feather,
                             const glm::dmat3x2& image_from_feather_work, const BSpline2& shaft_mm,

@@ -68,6 +68,12 @@ inline constexpr float kMinBarbuleElevationDeg = 1.0f;
 // The palest a feather's albedo texture may be over the paper it was photographed
 // on: Albedo::scale and the layout's AlbedoTexture::scale lie in [1, this].
 inline constexpr double kMaxAlbedoScale = 8.0;
+// The most shaft colours one feather may have (Albedo::shaft; the reader refuses more).
+inline constexpr std::size_t kMaxShaftColours = 256;
+// The shaft's colour at `fraction` of its length from the root (0) to the tip (1):
+// station k of n lies at (k + 1/2) / n, linear in between, the end stations' colours
+// beyond them. `shaft` must not be empty.
+glm::vec3 shaft_colour_at(const std::vector<glm::vec3>& shaft, float fraction);
 
 // Where the albedo comes from: a constant linear RGB colour, or a texture image
 // mapped onto the feather's XY plane by an axis-aligned rectangle (mm).
@@ -76,7 +82,10 @@ struct Albedo {
   std::string texture;                   // path, relative to the curve file's folder
   glm::vec2 rect_min{0}, rect_max{0};    // texture (0,0) at rect_min (x, y) ... (1,1) at rect_max
   float scale = 1.0f;                    // a texel times scale is the albedo (> 1: paler than the paper)
-  std::optional<glm::vec3> shaft;        // the shaft's own colour (rachis and calamus); else the texture's
+  // The shaft's own colour (rachis and calamus): one colour for the whole shaft, or
+  // its colours at evenly spaced stations along its length from the root
+  // (shaft_colour_at); empty: the shaft takes the texture's (or the colour).
+  std::vector<glm::vec3> shaft;
   bool operator==(const Albedo&) const = default;
 };
 

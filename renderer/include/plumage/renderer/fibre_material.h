@@ -20,12 +20,17 @@ class AlbedoMap {
  public:
   // A texture path is resolved against `base_dir` (the curve file's folder); throws
   // plumage::Error naming the texture when it cannot be read or the rect is empty.
-  AlbedoMap(const Albedo& albedo, const std::filesystem::path& base_dir);
+  // `shaft`, the feather's shaft curve, places the shaft's colours along it (a
+  // shaft colour given at several stations; without it they are averaged).
+  AlbedoMap(const Albedo& albedo, const std::filesystem::path& base_dir, const Curve* shaft = nullptr);
   explicit AlbedoMap(const glm::vec3& constant = glm::vec3(0.5f));
 
   bool textured() const { return !image_.empty(); }
-  // The shaft's own colour (Albedo::shaft), when the feather has one.
-  const std::optional<glm::vec3>& shaft() const { return shaft_; }
+  // Whether the feather's shaft has a colour of its own (Albedo::shaft).
+  bool has_shaft_colour() const { return !shaft_.empty(); }
+  // The shaft's own colour at p (a point on or near the shaft): at the station
+  // nearest to where p lies along the shaft (shaft_colour_at). Needs has_shaft_colour().
+  glm::vec3 shaft_colour(const glm::vec3& p) const;
   // Linear RGB at a point (the texture is clamped at its edges; bilinear), times the
   // albedo's scale: in [0, scale].
   glm::vec3 at(const glm::vec2& xy) const;
@@ -39,7 +44,9 @@ class AlbedoMap {
   Image image_;
   glm::vec2 rect_min_{0}, rect_max_{1};
   float scale_ = 1.0f;  // Albedo::scale
-  std::optional<glm::vec3> shaft_;
+  std::vector<glm::vec3> shaft_;
+  std::vector<glm::vec3> shaft_line_;  // the shaft curve as a polyline, root first
+  std::vector<float> shaft_arc_;       // fraction of its length at each polyline point
 };
 
 // How an albedo becomes an absorption coefficient (docs/hair-bcsdf.md).

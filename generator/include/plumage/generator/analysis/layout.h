@@ -50,9 +50,10 @@ struct AlbedoTexture {
   // is paler than the paper (the texture stores [0, 1]); in [1, kMaxAlbedoScale].
   double scale = 1.0;
   // The rachis's own colour (linear RGB, over the paper as the texture is; each in
-  // [0, kMaxAlbedoScale]), read before the shaft is painted out of the texture;
-  // absent when too few texels show it.
-  std::optional<glm::dvec3> shaft_rgb;
+  // [0, kMaxAlbedoScale]), read before the shaft is painted out of the texture: at
+  // evenly spaced stations along the shaft from its base (Albedo::shaft), or one
+  // colour for the whole shaft; empty when too few texels show it.
+  std::vector<glm::dvec3> shaft_rgb;
 };
 
 // The most stations one feather's layout may have (the reader refuses more).
