@@ -6,6 +6,7 @@
 
 #include "command.h"
 #include "option_checks.h"
+#include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
 #include "plumage/common/progress.h"
 #include "plumage/common/stats.h"
@@ -59,6 +60,7 @@ int run_command_line(int argc, const char* const* argv) {
   std::function<int()> run;
   if (const int rc = parse_command_line(argc, argv, run); rc >= 0) return rc;
   ProgressBar::set_quiet(g_options.quiet);
+  const InputsProtected protect_inputs;  // no output of this run replaces what it reads
   try {
     const int rc = run ? run() : 0;
     if (g_options.stats) stats_print(std::cerr);

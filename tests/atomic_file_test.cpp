@@ -9,6 +9,7 @@
 #include <cstring>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "plumage/common/atomic_file.h"
@@ -78,11 +79,15 @@ TEST_F(FileBatchTest, AFailedOutputLeavesEveryTargetAsItWas) {
 // A rename that fails part-way through commit() puts back what it had replaced.
 TEST_F(FileBatchTest, AFailedRenameRollsBackTheEarlierOnes) {
   write_file_atomic(dir_ / "a.txt", "old a");
-  fs::create_directories(dir_ / "b.txt" / "inside");  // a non-empty folder where b.txt should go
   FileBatch batch;
   batch.stage_text(dir_ / "new.txt", "new");
   batch.stage_text(dir_ / "a.txt", "new a");
-  batch.stage_text(dir_ / "b.txt", "new b");
+  // A non-empty folder appears where b.txt should go after it was staged (one
+  // there before is refused when staging).
+  batch.stage(dir_ / "b.txt", [&](const fs::path& tmp) {
+    std::ofstream(tmp) << "new b";
+    fs::create_directories(dir_ / "b.txt" / "inside");
+  });
   EXPECT_THROW(batch.commit(), Error);
   EXPECT_EQ(read_file(dir_ / "a.txt"), "old a");
   EXPECT_FALSE(fs::exists(dir_ / "new.txt"));

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <system_error>
 
@@ -45,15 +46,26 @@ TEST(AtomicFile, FailedRenameReportsTheRealReason) {
   const fs::path dir = fs::temp_directory_path() / ("plumage_atomic_rename_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   const fs::path target = dir / "taken";
-  fs::create_directories(target / "inside");  // a non-empty directory where the file should go
+  fs::create_directories(dir);
   try {
-    write_file_atomic(target, "data");
+    // A non-empty directory appears where the file should go while it is written
+    // (one there before is refused up front, below).
+    write_via_temp(target, [&](const fs::path& tmp) {
+      std::ofstream(tmp) << "data";
+      fs::create_directories(target / "inside");
+    });
     ADD_FAILURE() << "renaming a file onto a directory should fail";
   } catch (const Error& e) {
     const std::string msg = e.what();
     EXPECT_NE(msg.find("cannot rename"), std::string::npos) << msg;
     EXPECT_EQ(msg.find("Success"), std::string::npos) << msg;
     EXPECT_NE(msg.find(std::make_error_code(std::errc::is_a_directory).message()), std::string::npos) << msg;
+  }
+  try {
+    write_file_atomic(target, "data");
+    ADD_FAILURE() << "a directory named as the output should be refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("is a directory: give a file name"), std::string::npos) << e.what();
   }
   // The temporary file is gone and the directory is untouched.
   int n = 0;
@@ -63,22 +75,27 @@ TEST(AtomicFile, FailedRenameReportsTheRealReason) {
   fs::remove_all(dir);
 }
 
-// An open that fails reports why: a 250-character name is legal, but the
-// temporary name beside it (".NAME.tmp-PID-N") is longer than a file name may be.
-TEST(AtomicFile, FailedOpenReportsTheRealReason) {
+// A 250-character name is legal, and its temporary (".NAME.tmp-PID-N", its stem
+// cut to fit) is too: the file is written. A name longer than a file name may be
+// fails with the system's reason, and leaves nothing behind.
+TEST(AtomicFile, LongNamesAreWrittenOrRefusedWithTheRealReason) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("plumage_atomic_open_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
+  const fs::path fits = dir / (std::string(246, 'n') + ".png");
+  write_file_atomic(fits, "data");
+  EXPECT_EQ(read_file(fits), "data");
+  int n = 0;
+  for ([[maybe_unused]] auto& e : fs::directory_iterator(dir)) ++n;
+  EXPECT_EQ(n, 1) << "only the file itself";
+  fs::remove(fits);
   try {
-    write_file_atomic(dir / std::string(250, 'n'), "data");
-    ADD_FAILURE() << "a temporary name over 255 characters should not open";
+    write_file_atomic(dir / std::string(300, 'n'), "data");
+    ADD_FAILURE() << "a name over 255 characters should not be written";
   } catch (const Error& e) {
     const std::string msg = e.what();
-    EXPECT_NE(msg.find("cannot open for writing: " +
-                       std::make_error_code(std::errc::filename_too_long).message()),
-              std::string::npos)
-        << msg;
+    EXPECT_NE(msg.find(std::make_error_code(std::errc::filename_too_long).message()), std::string::npos) << msg;
   }
   EXPECT_TRUE(fs::is_empty(dir));
   fs::remove_all(dir);

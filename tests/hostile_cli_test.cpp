@@ -519,6 +519,55 @@ TEST_F(HostileCli, OutputsAllOrNone) {
   run_cases("outputs", cases);
 }
 
+// An output never replaces an input of its own run (by path, or the same file
+// under another name), nor a FIFO or device; a file it replaces keeps its mode.
+TEST_F(HostileCli, OutputsNeverReplaceInputsOrSpecialFiles) {
+  const fs::path dir = root_ / "clobber";
+  fs::create_directories(dir);
+  fs::copy_file(in_ / "photo.png", dir / "p.png", fs::copy_options::overwrite_existing);
+  fs::copy_file(in_ / "f.fcurves", dir / "f.fcurves", fs::copy_options::overwrite_existing);
+  fs::remove(dir / "alias.png");
+  fs::create_hard_link(dir / "f.fcurves", dir / "alias.png");  // the curve file under an image's name
+  const std::string photo = read_file(dir / "p.png"), curves = read_file(dir / "f.fcurves");
+  const std::string q = "'" + dir.string() + "/";
+  struct Refusal {
+    std::string args, mention;
+  };
+  const std::vector<Refusal> refused = {
+      {"analyze " + q + "p.png' -o " + q + "p.png' --mm-per-px 0.1", "is an input of this command"},
+      {"analyze " + q + "p.png' -o " + q + "out.json' --overlay " + q + "p.png' --mm-per-px 0.1",
+       "is an input of this command"},
+      {"render " + q + "f.fcurves' --resolution 8x8 --spp 1 -o " + q + "alias.png'", "is an input of this command"},
+  };
+  for (const Refusal& r : refused) {
+    const test::CliStreams out = test::plumage_cli_streams("-q " + r.args);
+    EXPECT_EQ(out.rc, 1) << r.args << ": " << out.err;
+    EXPECT_NE(out.err.find(r.mention), std::string::npos) << r.args << ": " << out.err;
+    EXPECT_EQ(std::count(out.err.begin(), out.err.end(), '\n'), 1) << out.err;
+    EXPECT_EQ(read_file(dir / "p.png"), photo) << r.args;
+    EXPECT_EQ(read_file(dir / "f.fcurves"), curves) << r.args;
+  }
+  // A FIFO named as the output stays a FIFO (the run would have replaced it with a file).
+  const fs::path fifo = dir / "fifo.png";
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+  const test::CliStreams f =
+      test::plumage_cli_streams("-q render " + q + "f.fcurves' --resolution 8x8 --spp 1 -o '" + fifo.string() + "'");
+  EXPECT_EQ(f.rc, 1) << f.err;
+  EXPECT_NE(f.err.find("not a regular file"), std::string::npos) << f.err;
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  // A private output stays private when it is written again.
+  const fs::path priv = dir / "private.png";
+  const std::string render = "-q render " + q + "f.fcurves' --resolution 8x8 --spp 1 -o '" + priv.string() + "'";
+  ASSERT_EQ(test::plumage_cli_streams(render).rc, 0);
+  fs::permissions(priv, fs::perms::owner_read | fs::perms::owner_write, fs::perm_options::replace);
+  ASSERT_EQ(test::plumage_cli_streams(render).rc, 0);
+  EXPECT_EQ(fs::status(priv).permissions() & fs::perms::all, fs::perms::owner_read | fs::perms::owner_write);
+  // No temporaries left.
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+}
+
 // The error names the real culprit, not a symptom further down the line.
 TEST_F(HostileCli, MessagesNameTheRealCulprit) {
   const std::vector<Case> cases = {

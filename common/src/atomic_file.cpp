@@ -1,10 +1,14 @@
 #include "plumage/common/atomic_file.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <climits>
 #include <cstring>
 #include <fstream>
+#include <mutex>
 #include <sstream>
+#include <sys/stat.h>
 #include <system_error>
 #include <unistd.h>
 
@@ -14,19 +18,54 @@ namespace plumage {
 namespace fs = std::filesystem;
 
 namespace {
-// ".name.KIND-PID-N.ext": hidden, unique per process and call, same extension.
+// The longest file name (bytes) the temporary names are kept to: POSIX's NAME_MAX,
+// which the common Linux file systems share.
+constexpr std::size_t kMaxNameBytes = NAME_MAX;
+
+// ".name.KIND-PID-N.ext": hidden, unique per process and call, same extension. A
+// long name's stem is cut so that the whole fits in a file name.
 fs::path sibling_name(const fs::path& path, const char* kind) {
   static std::atomic<unsigned> counter{0};
+  const std::string unique = kind + std::to_string(::getpid()) + '-' + std::to_string(counter++);
+  std::string ext = path.extension().string(), stem = path.stem().string();
+  ext.resize(std::min(ext.size(), kMaxNameBytes / 2));
+  const std::size_t room = kMaxNameBytes - 1 - unique.size() - ext.size();
+  if (stem.size() > room) stem.resize(room);
   fs::path tmp = path;
-  std::string name = ".";
-  name += path.stem().string();
-  name += kind;
-  name += std::to_string(::getpid());
-  name += '-';
-  name += std::to_string(counter++);
-  name += path.extension().string();
-  tmp.replace_filename(name);
+  tmp.replace_filename("." + stem + unique + ext);
   return tmp;
+}
+
+// The files this process has opened as inputs (check_input_file), by device and
+// inode, so that no output replaces one of them.
+struct InputFile {
+  dev_t dev;
+  ino_t ino;
+  std::string path;
+};
+std::mutex g_inputs_mutex;
+std::vector<InputFile> g_inputs;
+int g_protecting = 0;  // InputsProtected objects alive
+
+void note_input(const fs::path& path) {
+  if (g_protecting == 0) return;
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return;
+  const std::lock_guard<std::mutex> lock(g_inputs_mutex);
+  for (const InputFile& f : g_inputs)
+    if (f.dev == st.st_dev && f.ino == st.st_ino) return;
+  g_inputs.push_back({st.st_dev, st.st_ino, path.string()});
+}
+
+// The input `path` is (the same file, by device and inode), if it is one.
+const InputFile* input_at(const fs::path& path) {
+  if (g_protecting == 0) return nullptr;
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return nullptr;
+  const std::lock_guard<std::mutex> lock(g_inputs_mutex);
+  for (const InputFile& f : g_inputs)
+    if (f.dev == st.st_dev && f.ino == st.st_ino) return &f;
+  return nullptr;
 }
 
 // The reason the stream call just made failed, read at once so nothing in
@@ -43,6 +82,16 @@ void remove_quietly(const fs::path& p) {
 }
 }  // namespace
 
+InputsProtected::InputsProtected() {
+  const std::lock_guard<std::mutex> lock(g_inputs_mutex);
+  ++g_protecting;
+}
+
+InputsProtected::~InputsProtected() {
+  const std::lock_guard<std::mutex> lock(g_inputs_mutex);
+  if (--g_protecting == 0) g_inputs.clear();
+}
+
 FileBatch::~FileBatch() {
   for (const Staged& s : staged_) remove_quietly(s.tmp);
 }
@@ -54,6 +103,17 @@ void FileBatch::stage(const fs::path& path, const std::function<void(const fs::p
   if (!dir.empty() && !fs::is_directory(dir, ec))
     throw Error(Location{path.string()}, "cannot write: directory '" + dir.string() +
                                              "' does not exist (create it first)");
+  // Only a regular file is replaced (links followed): a device, FIFO or socket
+  // that an output names is left as it is, and so is every input of this run.
+  const fs::file_status st = fs::status(path, ec);
+  if (st.type() == fs::file_type::directory)
+    throw Error(Location{path.string()}, "is a directory: give a file name for the output");
+  if (fs::exists(st) && st.type() != fs::file_type::regular)
+    throw Error(Location{path.string()},
+                "is a device, FIFO or socket, not a regular file; an output replaces only files: give a file name");
+  if (const InputFile* in = input_at(path))
+    throw Error(Location{path.string()}, "is an input of this command ('" + in->path +
+                                             "'): give the output another name");
   for (const Staged& s : staged_)
     if (fs::weakly_canonical(s.target, ec) == fs::weakly_canonical(path, ec) || s.target == path)
       throw Error(Location{path.string()}, "two outputs of this command name the same file; give each its own");
@@ -104,6 +164,9 @@ void FileBatch::commit() {
       if (ec) fs::copy_file(s.target, backup, ec);
       if (ec) backup.clear();
     }
+    // The file it replaces keeps its permissions (a private file stays private).
+    if (const fs::file_status old = fs::status(s.target, ec); !ec && old.type() == fs::file_type::regular)
+      fs::permissions(s.tmp, old.permissions(), fs::perm_options::replace, ec);
     std::error_code rename_error;
     fs::rename(s.tmp, s.target, rename_error);
     if (rename_error) {
@@ -136,7 +199,7 @@ void write_file_atomic(const fs::path& path, std::string_view contents) {
   batch.commit();
 }
 
-std::uintmax_t check_input_file(const fs::path& path, const std::string& what) {
+std::uintmax_t check_input_file(const fs::path& path, const std::string& what, FileRole role) {
   const Location where{path.string()};
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
@@ -147,11 +210,12 @@ std::uintmax_t check_input_file(const fs::path& path, const std::string& what) {
     throw Error(where, "is not a regular file (a device, FIFO or socket), expected " + what);
   const std::uintmax_t size = fs::file_size(path, ec);
   if (ec) throw Error(where, "cannot open: " + ec.message());
+  if (role == FileRole::Input) note_input(path);
   return size;
 }
 
-std::string read_file(const fs::path& path) {
-  const std::uintmax_t size = check_input_file(path, "a file");
+std::string read_file(const fs::path& path, FileRole role) {
+  const std::uintmax_t size = check_input_file(path, "a file", role);
   if (size > kMaxTextFileBytes)
     throw Error(Location{path.string()}, "file is " + std::to_string(size >> 20) + " MiB, above the " +
                                              std::to_string(kMaxTextFileBytes >> 20) + " MiB limit of text inputs");

@@ -398,7 +398,7 @@ std::shared_ptr<const FarfieldModel> farfield_model(const FarfieldGeometry& g, c
   std::error_code ec;
   if (!file.empty() && std::filesystem::exists(file, ec)) {
     try {
-      auto m = std::make_shared<FarfieldModel>(FarfieldModel::deserialize(read_file(file), key));
+      auto m = std::make_shared<FarfieldModel>(FarfieldModel::deserialize(read_file(file, FileRole::Cache), key));
       m->report.seconds = 0;
       model = m;
       ++g_loaded;

@@ -12,10 +12,25 @@
 
 namespace plumage {
 
+// While one of these lives (a command's run holds one), every input opened
+// through check_input_file is remembered, and FileBatch refuses an output that
+// is one of them (the same file by device and inode, whatever its path):
+// `analyze p.png -o p.png` cannot destroy its photo. Outside a run (a library
+// reading a file, editing it and saving it back) nothing is limited.
+class InputsProtected {
+ public:
+  InputsProtected();
+  ~InputsProtected();
+  InputsProtected(const InputsProtected&) = delete;
+  InputsProtected& operator=(const InputsProtected&) = delete;
+};
+
 // Outputs written all or none. stage() writes one file under a temporary name
 // beside its target (if the writer throws, that temporary is removed); commit()
 // renames every staged file into place, and if one rename fails it puts back the
-// targets it had already replaced. A batch destroyed before commit() removes its
+// targets it had already replaced. A target is written only where it is absent
+// or a regular file (links followed), never over an input of the run
+// (InputsProtected), and a file it replaces keeps its permissions. A batch destroyed before commit() removes its
 // temporary files, so a failure anywhere leaves every target as it was.
 class FileBatch {
  public:
@@ -47,17 +62,23 @@ void write_file_atomic(const std::filesystem::path& path, std::string_view conte
 void write_via_temp(const std::filesystem::path& path,
                     const std::function<void(const std::filesystem::path& tmp_path)>& write);
 
+// What a file read is to the run: an input the user gave (which no output of the
+// run may replace, InputsProtected), or state the program keeps and may rewrite
+// (a cache).
+enum class FileRole { Input, Cache };
+
 // Checks that `path` names a regular file (links followed) and returns its size.
 // A directory, FIFO, socket or device is refused with plumage::Error naming the
 // path: a reader would hang on a FIFO or /dev/zero. `what` says what was
 // expected ("an image", "a curve file").
-std::uintmax_t check_input_file(const std::filesystem::path& path, const std::string& what);
+std::uintmax_t check_input_file(const std::filesystem::path& path, const std::string& what,
+                                FileRole role = FileRole::Input);
 
 // The largest text input read_file accepts (curve files, parameters, layouts, rigs).
 inline constexpr std::uintmax_t kMaxTextFileBytes = std::uintmax_t(1) << 30;
 
 // Reads a whole regular file of at most kMaxTextFileBytes; throws
 // plumage::Error naming the path if it cannot.
-std::string read_file(const std::filesystem::path& path);
+std::string read_file(const std::filesystem::path& path, FileRole role = FileRole::Input);
 
 }  // namespace plumage
