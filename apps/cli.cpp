@@ -1,6 +1,8 @@
 #include "cli.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <iostream>
 #include <memory>
 
@@ -56,15 +58,29 @@ int parse_command_line(int argc, const char* const* argv, std::function<int()>& 
   return -1;
 }
 
+namespace {
+// What went to stdout (info, --json, --print-params, --help) must have arrived: a
+// full disk or a closed stream is an error (exit 1), not a silent success.
+int stdout_checked(int rc) {
+  errno = 0;
+  std::cout.flush();
+  if (std::cout) return rc;
+  const int err = errno;
+  std::cerr << "plumage: error: cannot write to standard output: "
+            << (err ? std::strerror(err) : "the stream is closed or full") << "\n";
+  return rc == 0 ? 1 : rc;
+}
+}  // namespace
+
 int run_command_line(int argc, const char* const* argv) {
   std::function<int()> run;
-  if (const int rc = parse_command_line(argc, argv, run); rc >= 0) return rc;
+  if (const int rc = parse_command_line(argc, argv, run); rc >= 0) return stdout_checked(rc);
   ProgressBar::set_quiet(g_options.quiet);
   const InputsProtected protect_inputs;  // no output of this run replaces what it reads
   try {
     const int rc = run ? run() : 0;
     if (g_options.stats) stats_print(std::cerr);
-    return rc;
+    return stdout_checked(rc);
   } catch (const Error& e) {
     std::cerr << "plumage: error: " << e.what() << "\n";
     return 1;

@@ -568,6 +568,23 @@ TEST_F(HostileCli, OutputsNeverReplaceInputsOrSpecialFiles) {
     EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
 }
 
+// What a command prints to stdout must arrive: a full device or a closed stdout
+// is a one-line error and exit 1, not exit 0 with the output lost.
+TEST_F(HostileCli, WritesToStdoutAreChecked) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const std::string f = "'" + (in_ / "f.fcurves").string() + "'";
+  for (const std::string& args : {"info " + f, "info --json " + f, std::string("generate --print-params --preset rock-dove-wing"),
+                                  std::string("generate --list-presets"), std::string("--help")}) {
+    for (const char* sink : {" >/dev/full", " >&-"}) {
+      const test::CliStreams r = test::plumage_cli_streams(args + sink);
+      EXPECT_EQ(r.rc, 1) << args << sink << ": " << r.err;
+      EXPECT_EQ(r.err.rfind("plumage: error: cannot write to standard output: ", 0), 0u) << args << sink << ": " << r.err;
+      EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << sink << ": " << r.err;
+    }
+  }
+  EXPECT_EQ(test::plumage_cli_streams("info " + f + " >/dev/null").rc, 0);
+}
+
 // The error names the real culprit, not a symptom further down the line.
 TEST_F(HostileCli, MessagesNameTheRealCulprit) {
   const std::vector<Case> cases = {
