@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <tuple>
 #include <filesystem>
 
 #include "plumage/common/error.h"
@@ -401,23 +402,38 @@ TEST(RenderMaterial, RibbonLayersCountTheBarbsOverAPoint) {
 TEST(RenderMaterial, TheShaftsColourFollowsItsStations) {
   // A white quill below a black rachis: two stations, at a quarter and three
   // quarters of the shaft's length, linear in between. The straight shaft's
-  // B-spline (control points at x = -6, -2, 2, 6) runs from x = -2 (its root) to 2.
+  // B-spline (control points at x = -6, -2, 2, 6) runs from x = -2 (its root,
+  // t = 0) to 2 (t = 1) at constant speed, so t is the fraction of its length.
   const Curve shaft = test::straight_curve(CurveKind::Shaft, {0, 0, 0}, 6, 0.6f);
   Albedo albedo;
   albedo.shaft = {glm::vec3(1.0f), glm::vec3(0.0f)};
   const AlbedoMap map(albedo, ".", &shaft);
   ASSERT_TRUE(map.has_shaft_colour());
-  EXPECT_NEAR(map.shaft_colour({-2, 0, 0}).x, 1.0f, 1e-5f);
-  EXPECT_NEAR(map.shaft_colour({-1.5f, 0, 0}).x, 1.0f, 1e-5f);
-  EXPECT_NEAR(map.shaft_colour({-0.5f, 0, 0}).x, 0.75f, 1e-5f);
-  EXPECT_NEAR(map.shaft_colour({0, 0.5f, 0.3f}).x, 0.5f, 1e-5f) << "a point beside the shaft takes its nearest station's colour";
-  EXPECT_NEAR(map.shaft_colour({1.5f, 0, 0}).x, 0.0f, 1e-5f);
-  EXPECT_NEAR(map.shaft_colour({-9, 0, 0}).x, 1.0f, 1e-5f) << "beyond the root";
+  EXPECT_NEAR(map.shaft_colour(0.0f).x, 1.0f, 1e-5f);
+  EXPECT_NEAR(map.shaft_colour(0.125f).x, 1.0f, 1e-5f);
+  EXPECT_NEAR(map.shaft_colour(0.375f).x, 0.75f, 1e-5f);
+  EXPECT_NEAR(map.shaft_colour(0.5f).x, 0.5f, 1e-5f);
+  EXPECT_NEAR(map.shaft_colour(0.875f).x, 0.0f, 1e-5f);
+  EXPECT_NEAR(map.shaft_colour(-1.0f).x, 1.0f, 1e-5f) << "beyond the root";
   // Without the curve the stations cannot be placed: their mean.
-  EXPECT_NEAR(AlbedoMap(albedo, ".").shaft_colour({-2, 0, 0}).x, 0.5f, 1e-6f);
+  EXPECT_NEAR(AlbedoMap(albedo, ".").shaft_colour(0.0f).x, 0.5f, 1e-6f);
   // The material's shaft fibre follows: light at the root, dark at the tip.
   const FibreMaterial m(HairParams{}, AlbedoMap(albedo, ".", &shaft));
-  EXPECT_LT(m.at_shaft({-1.8f, 0, 0}).sigma_a.x, m.at_shaft({1.8f, 0, 0}).sigma_a.x);
+  EXPECT_LT(m.at_shaft({-1.8f, 0, 0}, 0.05f).sigma_a.x, m.at_shaft({1.8f, 0, 0}, 0.95f).sigma_a.x);
+  // A hit on the shaft says where it lies along it: a ray down onto x = -1 and
+  // one onto a point beside the axis at x = 0 meet the tube a quarter and half
+  // of the way from the root.
+  Feather f;
+  f.curves.push_back(shaft);
+  const Scene scene(f, SceneOptions{});
+  for (const auto& [x, y, t] : {std::tuple{-1.0f, 0.0f, 0.25f}, std::tuple{0.0f, 0.3f, 0.5f}}) {
+    Ray ray;
+    ray.o = {x, y, 5};
+    ray.d = {0, 0, -1};
+    SurfaceHit hit;
+    ASSERT_TRUE(scene.intersect(ray, hit)) << x;
+    EXPECT_NEAR(scene.curve_parameter(hit), t, 1e-3f) << x;
+  }
 }
 
 TEST(ShaftColour, StationsAreCentredOnEqualStretches) {
@@ -453,9 +469,9 @@ TEST(RenderMaterial, TheShaftTakesItsOwnColour) {
     f.albedo.shaft = shaft;
     const FibreMaterial m(HairParams{}, AlbedoMap(f.albedo, "."));
     if (!shaft.empty()) {
-      EXPECT_EQ(m.at_shaft({0, 0, 0}).sigma_a, sigma_a_from_layer_albedo(shaft[0], HairParams{}.eta));
+      EXPECT_EQ(m.at_shaft({0, 0, 0}, 0.5f).sigma_a, sigma_a_from_layer_albedo(shaft[0], HairParams{}.eta));
     } else {
-      EXPECT_EQ(m.at_shaft({0, 0, 0}).sigma_a, m.at({0, 0, 0}).sigma_a);
+      EXPECT_EQ(m.at_shaft({0, 0, 0}, 0.5f).sigma_a, m.at({0, 0, 0}).sigma_a);
     }
     SceneOptions so;
     so.backdrop = {true, glm::vec3(0.5f), 4.0f};

@@ -45,27 +45,28 @@ struct InputFile {
 };
 std::mutex g_inputs_mutex;
 std::vector<InputFile> g_inputs;
-int g_protecting = 0;  // InputsProtected objects alive
+std::atomic<int> g_protecting{0};  // InputsProtected objects alive
+
+// The remembered input that `st` is (same device and inode), if any. Needs the lock.
+const InputFile* find_input(const struct stat& st) {
+  for (const InputFile& f : g_inputs)
+    if (f.dev == st.st_dev && f.ino == st.st_ino) return &f;
+  return nullptr;
+}
 
 void note_input(const fs::path& path) {
-  if (g_protecting == 0) return;
   struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) return;
+  if (g_protecting == 0 || ::stat(path.c_str(), &st) != 0) return;
   const std::lock_guard<std::mutex> lock(g_inputs_mutex);
-  for (const InputFile& f : g_inputs)
-    if (f.dev == st.st_dev && f.ino == st.st_ino) return;
-  g_inputs.push_back({st.st_dev, st.st_ino, path.string()});
+  if (!find_input(st)) g_inputs.push_back({st.st_dev, st.st_ino, path.string()});
 }
 
 // The input `path` is (the same file, by device and inode), if it is one.
 const InputFile* input_at(const fs::path& path) {
-  if (g_protecting == 0) return nullptr;
   struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) return nullptr;
+  if (g_protecting == 0 || ::stat(path.c_str(), &st) != 0) return nullptr;
   const std::lock_guard<std::mutex> lock(g_inputs_mutex);
-  for (const InputFile& f : g_inputs)
-    if (f.dev == st.st_dev && f.ino == st.st_ino) return &f;
-  return nullptr;
+  return find_input(st);
 }
 
 // The reason the stream call just made failed, read at once so nothing in

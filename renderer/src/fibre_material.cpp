@@ -13,22 +13,9 @@ AlbedoMap::AlbedoMap(const glm::vec3& constant) : constant_(constant) {}
 AlbedoMap::AlbedoMap(const Albedo& albedo, const std::filesystem::path& base_dir, const Curve* shaft)
     : constant_(albedo.color), shaft_(albedo.shaft) {
   if (shaft_.size() > 1 && shaft && shaft->points.size() >= 4) {
-    // The uniform cubic B-spline, 8 points a segment, and its arc length.
-    std::vector<glm::vec3> cp;
+    std::vector<glm::dvec3> cp;
     for (const ControlPoint& q : shaft->points) cp.push_back(q.p);
-    const BSpline3f spline(std::move(cp));
-    const std::size_t n = 8 * spline.num_segments();
-    float length = 0;
-    for (std::size_t i = 0; i <= n; ++i) {
-      shaft_line_.push_back(spline.eval(double(i) / double(n)));
-      if (i > 0) length += glm::length(shaft_line_[i] - shaft_line_[i - 1]);
-      shaft_arc_.push_back(length);
-    }
-    if (length > 0) {
-      for (float& a : shaft_arc_) a /= length;
-    } else {
-      shaft_line_.clear(), shaft_arc_.clear();
-    }
+    shaft_arc_.emplace(BSpline3(std::move(cp)));
   }
   if (albedo.texture.empty()) return;
   std::filesystem::path path = albedo.texture;
@@ -56,26 +43,14 @@ glm::vec3 AlbedoMap::at(const glm::vec2& xy) const {
   return glm::clamp(glm::mix(top, bottom, ty), glm::vec3(0.0f), glm::vec3(1.0f)) * scale_;
 }
 
-glm::vec3 AlbedoMap::shaft_colour(const glm::vec3& p) const {
+glm::vec3 AlbedoMap::shaft_colour(float t) const {
   if (shaft_.size() == 1) return shaft_[0];
-  if (shaft_line_.empty()) {  // nowhere to place them: their mean
+  if (!shaft_arc_ || !(shaft_arc_->length() > 0)) {  // nowhere to place them: their mean
     glm::vec3 sum(0.0f);
     for (const glm::vec3& c : shaft_) sum += c;
     return sum / float(shaft_.size());
   }
-  // The nearest point of the polyline, and its fraction of the shaft's length.
-  float best = INFINITY, fraction = 0;
-  for (std::size_t i = 0; i + 1 < shaft_line_.size(); ++i) {
-    const glm::vec3 a = shaft_line_[i], d = shaft_line_[i + 1] - a;
-    const float dd = glm::dot(d, d);
-    const float t = dd > 0 ? std::clamp(glm::dot(p - a, d) / dd, 0.0f, 1.0f) : 0.0f;
-    const glm::vec3 e = a + t * d - p;
-    if (const float dist = glm::dot(e, e); dist < best) {
-      best = dist;
-      fraction = shaft_arc_[i] + t * (shaft_arc_[i + 1] - shaft_arc_[i]);
-    }
-  }
-  return shaft_colour_at(shaft_, fraction);
+  return shaft_colour_at(shaft_, float(shaft_arc_->s_at(t) / shaft_arc_->length()));
 }
 
 glm::vec3 AlbedoMap::texel(int x, int y) const {
@@ -121,9 +96,9 @@ InversionCounts FibreMaterial::count_inversion() const {
   return n;
 }
 
-HairParams FibreMaterial::at_shaft(const glm::vec3& p) const {
+HairParams FibreMaterial::at_shaft(const glm::vec3& p, float t) const {
   if (!albedo_ || !albedo_->has_shaft_colour()) return at(p);
-  return from_albedo(albedo_->shaft_colour(p), 1.0f, 1);
+  return from_albedo(albedo_->shaft_colour(t), 1.0f, 1);
 }
 
 HairParams FibreMaterial::at(const glm::vec3& p, float coverage, int layers) const {

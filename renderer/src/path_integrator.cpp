@@ -109,7 +109,7 @@ const Bsdf& PathIntegrator::bsdf_at(const SurfaceHit& hit, const glm::vec3& wo, 
     case HitKind::Shaft:
     case HitKind::None: break;
   }
-  return slot.emplace<FibreBsdf>(round_fibre_frame_at(scene_, hit, wo), material_.at_shaft(hit.p), wo,
+  return slot.emplace<FibreBsdf>(round_fibre_frame_at(scene_, hit, wo), material_.at_shaft(hit.p, scene_.curve_parameter(hit)), wo,
                                  bsdf_pdf_needed_);
 }
 

@@ -113,6 +113,8 @@ void Scene::add_curves(CurveGeometry& g, CurveKind kind, int rtc_type) {
     const Curve& c = feather_.curves[ci];
     if (c.kind != kind || !keep_[ci]) continue;
     const auto first = std::uint32_t(g.vertices.size());
+    first_cp_.resize(feather_.curves.size(), 0);
+    first_cp_[ci] = first;
     const std::vector<float> radii = plumage::render_radii(feather_, c);
     for (std::size_t k = 0; k < c.points.size(); ++k) g.vertices.emplace_back(c.points[k].p, radii[k]);
     for (std::uint32_t s = 0; s + 3 < c.points.size(); ++s) {

@@ -131,6 +131,12 @@ Ray Scene::spawn(const SurfaceHit& from, const glm::vec3& d, float tmax) const {
   return r;
 }
 
+float Scene::curve_parameter(const SurfaceHit& hit) const {
+  const Primitive& prim = curve_geometry(hit.geom)->prims[hit.prim];
+  const float segments = float(feather_.curves[prim.curve].points.size() - 3);
+  return std::clamp((float(prim.first_cp - first_cp_[prim.curve]) + hit.u) / segments, 0.0f, 1.0f);
+}
+
 CurvePoint Scene::curve_point(const SurfaceHit& hit) const {
   const CurveGeometry* g = curve_geometry(hit.geom);
   const glm::vec4* cp = &g->vertices[g->prims[hit.prim].first_cp];

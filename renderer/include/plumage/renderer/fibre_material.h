@@ -8,6 +8,7 @@
 
 #include <glm/glm.hpp>
 
+#include "plumage/common/bspline.h"
 #include "plumage/common/feather.h"
 #include "plumage/common/image.h"
 #include "plumage/renderer/card_response.h"
@@ -28,9 +29,10 @@ class AlbedoMap {
   bool textured() const { return !image_.empty(); }
   // Whether the feather's shaft has a colour of its own (Albedo::shaft).
   bool has_shaft_colour() const { return !shaft_.empty(); }
-  // The shaft's own colour at p (a point on or near the shaft): at the station
-  // nearest to where p lies along the shaft (shaft_colour_at). Needs has_shaft_colour().
-  glm::vec3 shaft_colour(const glm::vec3& p) const;
+  // The shaft's own colour where the shaft curve's B-spline parameter is t (in
+  // [0, 1], root first): at that fraction of its arc length (shaft_colour_at).
+  // Needs has_shaft_colour().
+  glm::vec3 shaft_colour(float t) const;
   // Linear RGB at a point (the texture is clamped at its edges; bilinear), times the
   // albedo's scale: in [0, scale].
   glm::vec3 at(const glm::vec2& xy) const;
@@ -45,8 +47,7 @@ class AlbedoMap {
   glm::vec2 rect_min_{0}, rect_max_{1};
   float scale_ = 1.0f;  // Albedo::scale
   std::vector<glm::vec3> shaft_;
-  std::vector<glm::vec3> shaft_line_;  // the shaft curve as a polyline, root first
-  std::vector<float> shaft_arc_;       // fraction of its length at each polyline point
+  std::optional<ArcLengthTable> shaft_arc_;  // the shaft curve's, when its colour changes along it
 };
 
 // How an albedo becomes an absorption coefficient (docs/hair-bcsdf.md).
@@ -86,9 +87,10 @@ class FibreMaterial {
   // (Scene::ribbon_layers). Then the stack over p returns A. A constant albedo (a
   // preset's) is the fibres' own colour and is used as it is.
   HairParams at(const glm::vec3& p, float coverage = 1.0f, int layers = 1) const;
-  // The shaft's fibre at p: the feather's shaft colour (Albedo::shaft) where it has
-  // one, through the same card correction, one layer deep; else at(p).
-  HairParams at_shaft(const glm::vec3& p) const;
+  // The shaft's fibre at p, where the shaft curve's parameter is t
+  // (Scene::curve_parameter): the feather's shaft colour there (Albedo::shaft)
+  // where it has one, through the same card correction, one layer deep; else at(p).
+  HairParams at_shaft(const glm::vec3& p, float t) const;
 
   // The texture is a photo's, of a feather lying on the card it lies on in the
   // render (albedo `card`): relative to that card (a light background, the paper

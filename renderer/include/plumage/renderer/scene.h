@@ -64,6 +64,9 @@ class Scene {
   Ray spawn(const SurfaceHit& from, const glm::vec3& d, float tmax = 1e30f) const;
 
   CurvePoint curve_point(const SurfaceHit& hit) const;
+  // Where a shaft or ribbon hit lies along its feather curve: the curve's global
+  // B-spline parameter t in [0, 1] (segment and u within it), root first.
+  float curve_parameter(const SurfaceHit& hit) const;
   // Substructure mode, a barb hit: its ribbon coordinates, structure and frames.
   StructureSample structure_at(const SurfaceHit& hit) const;
   // Explicit mode, a barb hit: the ramus or barbule curve it landed on.
@@ -163,6 +166,7 @@ class Scene {
   std::vector<std::shared_ptr<const FarfieldModel>> farfield_T_[2];  // their straight transmittance
   std::vector<std::uint8_t> farfield_class_;                         // per barb primitive
   std::vector<char> keep_;  // per feather curve: in the BVH
+  std::vector<std::uint32_t> first_cp_;  // per feather curve in a shaft or ribbon geometry: its first vertex there
   std::size_t culled_ = 0;
 };
 
