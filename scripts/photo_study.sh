@@ -47,8 +47,9 @@ counts = json.load(open("data/photo-study/counts.json"))["photos"]
 def expected(c):
     # counts.json's groups: k feathers making r regions each
     return c["feathers"] + sum(g["regions"] - g["feathers"] for g in c.get("groups", [])) if c.get("exact") else None
-rows = ["| photo | by eye | regions (expected) | analysed | skipped (id: why) | barbs per side, median (range) | shaft length mm (range) | warnings | analyze exit, wall s |",
-        "|---|---|---|---|---|---|---|---|---|"]
+rows = ["| photo | by eye | regions (expected) | analysed | skipped (id: why) | barbs per side, median (range) | shaft length mm (range) | S-ness % median (max) | shafts ≥ 100 px over 1.5 % S-ness | seen as ridge % median (range) | warnings | analyze exit, wall s |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+shaft_rows = []
 for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
     stem = os.path.basename(rc_file)[:-3]
     name = next((n for n in counts if os.path.splitext(n)[0] == stem), stem)
@@ -58,13 +59,21 @@ for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
     eye_text = (f"{eye} ({rng[0]}–{rng[1]})" if rng else str(eye)) if eye else "not counted"
     if rc != "0":
         err = open(os.path.join(out, stem + ".analyze.txt")).read().strip().splitlines()
-        rows.append(f"| {name} | {eye_text} | — | — | — | — | — | {err[-1] if err else ''} | {rc}, {float(wall):.2f} |")
+        rows.append(f"| {name} | {eye_text} | — | — | — | — | — | — | — | — | {err[-1] if err else ''} | {rc}, {float(wall):.2f} |")
         continue
     L = json.load(open(os.path.join(out, stem + ".json")))
     skipped = ", ".join(f"{s['id']}: {'border' if s['reason'] == 'touches_border' else 'touching'}" for s in L.get("skipped", []))
     barbs, lengths, kinds = [], [], {}
+    s_ness, seen, over = [], [], []
+    arcs = counts.get(name, {}).get("shafts_not_simple_arcs", {})
     for f in L["feathers"]:
         lengths.append(f["shaft"]["length_mm"])
+        s_ness.append(100 * f["shaft"]["s_ness"])
+        seen.append(100 * f["shaft"]["seen_as_ridge"])
+        length_px = f["shaft"]["length_mm"] / L["scale"]["mm_per_px"]
+        if length_px >= 100 and s_ness[-1] > 1.5:
+            why = arcs.get(f"F{f['id']}", "")  # counts.json: "no simple arc: ..." or "trace off: ..."
+            over.append(f"F{f['id']} {s_ness[-1]:.1f}" + (f" ({why.split(':')[0]})" if why else ""))
         gen = open(os.path.join(out, f"{stem}.f{f['id']}.gen.txt")).read()
         m = re.search(r"\(left (\d+), right (\d+)\)", gen)
         if m: barbs += [int(m.group(1)), int(m.group(2))]
@@ -87,7 +96,9 @@ for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
     exp = expected(counts.get(name, {}))
     found = len(L["feathers"]) + len(L.get("skipped", []))
     regions = f"{found} ({exp})" if exp is not None else str(found)
-    rows.append(f"| {name} | {eye_text} | {regions} | {len(L['feathers'])} | {skipped or '—'} | {b} | {l} | {warn or '—'} | {rc}, {float(wall):.2f} |")
+    sn = f"{statistics.median(s_ness):.1f} ({max(s_ness):.1f})" if s_ness else "—"
+    sr = f"{statistics.median(seen):.0f} ({min(seen):.0f}–{max(seen):.0f})" if seen else "—"
+    rows.append(f"| {name} | {eye_text} | {regions} | {len(L['feathers'])} | {skipped or '—'} | {b} | {l} | {sn} | {', '.join(over) or '—'} | {sr} | {warn or '—'} | {rc}, {float(wall):.2f} |")
 open(os.path.join(out, "photo-study-table.md"), "w").write("\n".join(rows) + "\n")
 PY
 python3 scripts/doc_table.py docs/analysis.md photo-study "$out/photo-study-table.md"

@@ -13,6 +13,7 @@
 
 #include "plumage/common/median.h"
 #include "plumage/common/atomic_file.h"
+#include "plumage/common/bspline.h"
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
 #include "plumage/generator/analysis/analyze.h"
@@ -50,6 +51,26 @@ double distance_to_segment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
   const glm::dvec2 ab = b - a;
   const double t = std::clamp(glm::dot(p - a, ab) / glm::dot(ab, ab), 0.0, 1.0);
   return glm::length(p - (a + t * ab));
+}
+
+// The analysis of a drawn picture at 0.1 mm/px, from a folder of its own.
+PhotoAnalysis analyse_drawn(const Image& img, const std::string& name) {
+  const fs::path dir = temp_dir(name);
+  write_image(dir / "feather.png", img);
+  AnalyzeOptions opt;
+  opt.mm_per_px = 0.1;
+  return analyze_photo(dir / "feather.png", opt);
+}
+
+// How far an analysed shaft strays from the drawn feather's straight rachis: the
+// largest distance of 101 points evenly spaced in t, in photo pixels.
+double shaft_worst_px(const FeatherLayout& f, const SyntheticFeather& F) {
+  double worst = 0;
+  for (int i = 0; i <= 100; ++i) {
+    const glm::dvec2 p = apply(f.image_from_feather, f.shaft_mm.eval(i / 100.0));
+    worst = std::max(worst, distance_to_segment(p, F.calamus, F.tip()));
+  }
+  return worst;
 }
 
 std::string shared_photo(const char* name) {
@@ -191,11 +212,7 @@ TEST_P(AnalysisAsymmetric, ShaftFollowsARachisNearOneEdge) {
   const FeatherLayout& f = A.layout.feathers[0];
   // Within 1 % of the length of the drawn shaft everywhere, and both ends found.
   const double tol = 0.01 * F.length;
-  double worst = 0;
-  for (int i = 0; i <= 100; ++i) {
-    const glm::dvec2 p = apply(f.image_from_feather, f.shaft_mm.eval(i / 100.0));
-    worst = std::max(worst, distance_to_segment(p, F.calamus, F.tip()));
-  }
+  const double worst = shaft_worst_px(f, F);
   EXPECT_LT(worst, tol) << "shaft up to " << worst << " px off the drawn rachis";
   EXPECT_LT(glm::length(apply(f.image_from_feather, f.shaft_mm.eval(0.0)) - F.calamus), 2 * tol);
   EXPECT_LT(glm::length(apply(f.image_from_feather, f.shaft_mm.eval(1.0)) - F.tip()), 2 * tol);
@@ -242,19 +259,68 @@ TEST(AnalysisSynthetic, ShaftStaysOnTheRachisBesideAStrongerLine) {
         if (along > 0.4 * F.length && along < 0.55 * F.length && std::fabs(across - offset) < 1.5)
           img.set_rgb(x, y, glm::vec3(0.30f, 0.08f, 0.05f));
       }
-    const fs::path dir = temp_dir("second_line");
-    write_image(dir / "feather.png", img);
-    AnalyzeOptions opt;
-    opt.mm_per_px = 0.1;
-    const PhotoAnalysis A = analyze_photo(dir / "feather.png", opt);
+    const PhotoAnalysis A = analyse_drawn(img, "second_line");
+    ASSERT_EQ(A.layout.feathers.size(), 1u);
+    const double worst = shaft_worst_px(A.layout.feathers[0], F);
+    EXPECT_LT(worst, 0.01 * F.length) << "shaft up to " << worst << " px off the drawn rachis";
+  }
+}
+
+// S-ness (layout.h): the largest distance of a shaft from its best parabola over
+// its length. A line and a parabola read 0; y = c x^3 on [-1, 1] (its best
+// parabola is the line 0.6 c x, farthest at the ends, 0.4 c) reads 0.4 c / 2 for
+// a small c; the figure does not depend on the shaft's size or where it lies.
+TEST(ShaftSNess, LinesAndParabolasReadZeroAndACubicItsClosedForm) {
+  auto shaft = [](auto f, double scale, glm::dvec2 offset) {
+    std::vector<glm::dvec3> pts;
+    std::vector<double> t;
+    for (int i = 0; i <= 200; ++i) {
+      const glm::dvec2 p = offset + scale * f(2 * i / 200.0 - 1);
+      pts.emplace_back(p, 0.0), t.push_back(i / 200.0);
+    }
+    const BSpline3 c = fit_bspline(pts, 12, t, false);
+    std::vector<glm::dvec2> cp;
+    for (const glm::dvec3& q : c.control_points()) cp.emplace_back(q.x, q.y);
+    return BSpline2(cp);
+  };
+  for (const double scale : {1e-3, 1.0, 1e4}) {
+    for (const glm::dvec2 offset : {glm::dvec2(0), glm::dvec2(-5e5, 3e5)}) {
+      SCOPED_TRACE("scale " + std::to_string(scale) + ", offset " + std::to_string(offset.x));
+      EXPECT_LT(shaft_s_ness(shaft([](double x) { return glm::dvec2(0.3 * x, x); }, scale, offset)), 1e-6);
+      EXPECT_LT(shaft_s_ness(shaft([](double x) { return glm::dvec2(x, 0.3 * x * x); }, scale, offset)), 1e-6);
+      const double c = 0.02;
+      EXPECT_NEAR(shaft_s_ness(shaft([c](double x) { return glm::dvec2(x, c * x * x * x); }, scale, offset)),
+                  0.4 * c / 2, 0.02 * 0.4 * c / 2);
+    }
+  }
+  EXPECT_EQ(shaft_s_ness(BSpline2(std::vector<glm::dvec2>(6, glm::dvec2(1, 2)))), 0.0);
+}
+
+// Where the rachis is hidden (the blue jay's, under its bars, over the upper
+// half), a line through the vane as dark as the rachis (the colour boundary
+// between a brown and a blue vane, a bar's edge) leaves where the rachis runs
+// and comes back. The shaft goes on where the seen rachis points, not along
+// that line in an S (docs/analysis.md, "The rachis"), and the layout says how
+// much of it was seen.
+TEST(AnalysisSynthetic, AHiddenRachisIsContinuedNotTracedAlongALineBesideIt) {
+  for (const double bulge : {0.35, -0.35}) {
+    SCOPED_TRACE("line " + std::to_string(bulge) + " of the vane's width to the side");
+    SyntheticFeather F;
+    F.rachis_seen_to = 0.45;
+    F.decoy_from = 0.45;
+    F.decoy_to = 0.95;
+    F.decoy_bulge = bulge * (bulge > 0 ? F.w_right : F.w_left);
+    F.decoy_gap = 8;
+    const PhotoAnalysis A = analyse_drawn(F.draw(), "hidden_rachis");
     ASSERT_EQ(A.layout.feathers.size(), 1u);
     const FeatherLayout& f = A.layout.feathers[0];
-    double worst = 0;
-    for (int i = 0; i <= 100; ++i) {
-      const glm::dvec2 p = apply(f.image_from_feather, f.shaft_mm.eval(i / 100.0));
-      worst = std::max(worst, distance_to_segment(p, F.calamus, F.tip()));
-    }
+    const double worst = shaft_worst_px(f, F);
     EXPECT_LT(worst, 0.01 * F.length) << "shaft up to " << worst << " px off the drawn rachis";
+    EXPECT_LT(shaft_s_ness(f.shaft_mm), 0.015);
+    // Seen: the quill and the rachis up to 45 % of the length, not the rest.
+    EXPECT_GT(f.shaft_seen, 0.3);
+    EXPECT_LT(f.shaft_seen, 0.6);
+    std::printf("  worst %.2f px, S-ness %.4f, seen %.2f\n", worst, shaft_s_ness(f.shaft_mm), f.shaft_seen);
   }
 }
 

@@ -2,6 +2,7 @@
 // that shares no code with the implementation.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -475,6 +476,109 @@ TEST(BSplineFit, RejectsBadInput) {
     EXPECT_NE(std::string(e.what()).find("11"), std::string::npos) << e.what();
   }
   EXPECT_NO_THROW(fit_bspline(pts, 10));
+}
+
+// --- penalised fit (P-splines) ---------------------------------------------------
+
+// The least-squares parabola v = a + b u + c u^2 through (u, v) pairs, by its
+// normal equations (Cramer's rule, no project code).
+std::array<double, 3> parabola_through(const std::vector<double>& u, const std::vector<double>& v) {
+  double S[5] = {0, 0, 0, 0, 0}, T[3] = {0, 0, 0};
+  for (std::size_t i = 0; i < u.size(); ++i) {
+    double p = 1;
+    for (double& s : S) s += p, p *= u[i];
+    T[0] += v[i], T[1] += v[i] * u[i], T[2] += v[i] * u[i] * u[i];
+  }
+  auto det3 = [](double a, double b, double c, double d, double e, double f, double g, double h, double i) {
+    return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+  };
+  const double D = det3(S[0], S[1], S[2], S[1], S[2], S[3], S[2], S[3], S[4]);
+  return {det3(T[0], S[1], S[2], T[1], S[2], S[3], T[2], S[3], S[4]) / D,
+          det3(S[0], T[0], S[2], S[1], T[1], S[3], S[2], T[2], S[4]) / D,
+          det3(S[0], S[1], T[0], S[1], S[2], T[1], S[2], S[3], T[2]) / D};
+}
+
+TEST(BSplinePenalised, ParabolasCostNothingUnderAThirdDifferencePenalty) {
+  // A parabola known only near its two ends is continued as that parabola
+  // through the middle, whatever the penalty's weight, also far from the origin.
+  for (const double offset : {0.0, 1e9}) {
+    for (const double lambda : {1e-3, 1.0, 1e6}) {
+      SCOPED_TRACE("offset " + std::to_string(offset) + ", lambda " + std::to_string(lambda));
+      auto curve = [&](double t) { return glm::dvec3(offset + 3 * t, offset - 2 + 5 * t - 7 * t * t, 0.5); };
+      std::vector<glm::dvec3> pts;
+      std::vector<double> t, w;
+      for (const double ti : {0.0, 0.03, 0.07, 0.1, 0.9, 0.95, 1.0})
+        pts.push_back(curve(ti)), t.push_back(ti), w.push_back(1.0);
+      const BSpline3 c = fit_bspline_penalised(pts, t, w, 14, 3, lambda);
+      double worst = 0;
+      for (int i = 0; i <= 100; ++i) worst = std::max(worst, glm::length(c.eval(i / 100.0) - curve(i / 100.0)));
+      EXPECT_LT(worst, 1e-6 * std::max(1.0, offset)) << worst;
+    }
+  }
+}
+
+TEST(BSplinePenalised, ThePenaltyFlattensAnSAndZeroWeightsAreIgnored) {
+  // A full sine period sampled densely: with a tiny penalty the fit follows it;
+  // with a large one only a parabola is left (the S's distance from its best
+  // parabola falls from 0.35 to under 1 % of that). Points of weight 0 change nothing.
+  std::vector<glm::dvec3> pts;
+  std::vector<double> t, w;
+  for (int i = 0; i <= 200; ++i) {
+    const double ti = i / 200.0;
+    pts.emplace_back(ti, std::sin(2 * std::numbers::pi * ti), 0.0), t.push_back(ti), w.push_back(1.0);
+  }
+  const BSpline3 loose = fit_bspline_penalised(pts, t, w, 24, 3, 1e-9);
+  double follow = 0;
+  for (int i = 0; i <= 200; ++i) follow = std::max(follow, glm::length(loose.eval(t[i]) - pts[i]));
+  EXPECT_LT(follow, 1e-3);
+  auto s_amplitude = [&](const BSpline3& c) {
+    std::vector<double> u, v;
+    for (int i = 0; i <= 200; ++i) u.push_back(c.eval(i / 200.0).x), v.push_back(c.eval(i / 200.0).y);
+    const auto p = parabola_through(u, v);
+    double worst = 0;
+    for (std::size_t i = 0; i < u.size(); ++i)
+      worst = std::max(worst, std::fabs(v[i] - (p[0] + p[1] * u[i] + p[2] * u[i] * u[i])));
+    return worst;
+  };
+  const double raw = s_amplitude(loose);
+  EXPECT_GT(raw, 0.3);
+  const BSpline3 stiff = fit_bspline_penalised(pts, t, w, 24, 3, 1e9);
+  EXPECT_LT(s_amplitude(stiff), 0.01 * raw);
+  // Outliers given weight 0 leave the fit as it was, bit for bit.
+  std::vector<glm::dvec3> more = pts;
+  std::vector<double> more_t = t, more_w = w;
+  for (const double ti : {0.25, 0.5, 0.75})
+    more.emplace_back(ti, 1e3, 0.0), more_t.push_back(ti), more_w.push_back(0.0);
+  const BSpline3 same = fit_bspline_penalised(more, more_t, more_w, 24, 3, 1e-9);
+  for (int i = 0; i <= 20; ++i) EXPECT_EQ(same.eval(i / 20.0), loose.eval(i / 20.0));
+}
+
+TEST(BSplinePenalised, RejectsBadInput) {
+  std::vector<glm::dvec3> pts;
+  std::vector<double> t, w;
+  for (int i = 0; i < 10; ++i) pts.emplace_back(i, i * i, 0), t.push_back(i / 9.0), w.push_back(1.0);
+  EXPECT_NO_THROW(fit_bspline_penalised(pts, t, w, 8, 3, 1.0));
+  EXPECT_THROW(fit_bspline_penalised(pts, t, w, 3, 3, 1.0), Error);
+  EXPECT_THROW(fit_bspline_penalised(pts, t, w, 8, 0, 1.0), Error);
+  EXPECT_THROW(fit_bspline_penalised(pts, t, w, 8, 4, 1.0), Error);
+  EXPECT_THROW(fit_bspline_penalised(pts, t, w, 8, 3, -1.0), Error);
+  EXPECT_THROW(fit_bspline_penalised(pts, t, w, 8, 3, std::nan("")), Error);
+  EXPECT_THROW(fit_bspline_penalised(pts, std::vector<double>(5, 0.5), w, 8, 3, 1.0), Error);
+  std::vector<double> bad = w;
+  bad[2] = -1;
+  EXPECT_THROW(fit_bspline_penalised(pts, t, bad, 8, 3, 1.0), Error);
+  EXPECT_THROW(fit_bspline_penalised(pts, t, std::vector<double>(10, 0.0), 8, 3, 1.0), Error);
+  bad = t;
+  bad[4] = 1.5;
+  EXPECT_THROW(fit_bspline_penalised(pts, bad, w, 8, 3, 1.0), Error);
+  std::vector<glm::dvec3> nan_pts = pts;
+  nan_pts[1].y = std::nan("");
+  EXPECT_THROW(fit_bspline_penalised(nan_pts, t, w, 8, 3, 1.0), Error);
+  // Two weighted points cannot fix a parabola (the penalty's free part): refused.
+  std::vector<double> two(10, 0.0);
+  two[0] = two[9] = 1.0;
+  EXPECT_THROW(fit_bspline_penalised(pts, t, two, 8, 3, 1.0), Error);
+  EXPECT_NO_THROW(fit_bspline_penalised(pts, t, two, 8, 2, 1.0));  // a line through two points
 }
 
 // --- stress ---------------------------------------------------------------------

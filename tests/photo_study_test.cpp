@@ -59,6 +59,21 @@ TEST(PhotoStudy, EveryPhotoIsAnalysed) {
     const std::vector<int> rows = name == "european-robin-feather-sheet.jpg" ? std::vector<int>{18, 38, 39, 43}
                                                                              : std::vector<int>{};
     EXPECT_EQ(across, rows) << name;
+    // The rachis (docs/analysis.md, "The rachis"): a shaft at least 100 px long
+    // (where 1.5 % of it is at least 1.5 px) bends in an S by at most 1.5 % of
+    // its length, unless counts.json names it as no simple arc by eye; each
+    // feather it names is one analysed.
+    const auto arcs = c.value("shafts_not_simple_arcs", nlohmann::json::object());
+    for (const auto& f : A.layout.feathers) {
+      const std::string id = "F" + std::to_string(f.id);
+      if (arcs.contains(id) || f.length_mm / A.layout.scale.mm_per_px < 100) continue;
+      EXPECT_LE(shaft_s_ness(f.shaft_mm), 0.015) << name << " " << id << " (seen as a ridge: " << f.shaft_seen << ")";
+    }
+    for (const auto& [id, why] : arcs.items()) {
+      bool found = false;
+      for (const auto& f : A.layout.feathers) found |= "F" + std::to_string(f.id) == id;
+      EXPECT_TRUE(found) << name << ": counts.json names " << id << ", which is not an analysed feather";
+    }
     ++photos;
   }
   EXPECT_EQ(photos, 6);

@@ -44,6 +44,15 @@ struct SyntheticFeather {
   double downy_to = 0;
   int downy_side = 0;
   double downy_contrast = 0.15;
+  // A rachis hidden from this fraction of the length on (the barbs drawn across
+  // it, as the blue jay's bars hide its rachis); 1: seen to the tip.
+  double rachis_seen_to = 1;
+  // A line as dark as the rachis through the vane from fraction decoy_from to
+  // decoy_to of the length: it leaves where the rachis runs and comes back,
+  // decoy_bulge px to the side at its middle (negative: left), as the colour
+  // boundary between a brown and a blue vane or a bar's edge does; drawn only
+  // where it is at least decoy_gap px from the rachis. 0: none.
+  double decoy_from = 0, decoy_to = 0, decoy_bulge = 0, decoy_gap = 0;
 
   glm::dvec2 dir() const { return {std::cos(dir_deg * kPi / 180), std::sin(dir_deg * kPi / 180)}; }
   glm::dvec2 right() const { return {-dir().y, dir().x}; }  // feather +X, tip up
@@ -57,19 +66,24 @@ struct SyntheticFeather {
     return (side < 0 ? w_left : w_right) * std::pow(std::sin(kPi * u), 0.6);
   }
   int wide_side() const { return w_right >= w_left ? 1 : -1; }
-  // 0 outside, 1 vane, 2 shaft, 3 fringe, 4 cast shadow (outside the feather);
-  // and the barb brightness factor.
+  // 0 outside, 1 vane, 2 shaft, 3 fringe, 4 cast shadow (outside the feather),
+  // 5 the decoy line; and the barb brightness factor.
   int classify(glm::dvec2 p, double& shade) const {
     const glm::dvec2 d = p - calamus;
     const double y = glm::dot(d, dir()), x = glm::dot(d, right());
     shade = 1.0;
-    if (y >= 0 && y <= length && std::fabs(x) <= 0.5 * shaft_width * (1.0 - 0.5 * y / length))
+    if (y >= 0 && y <= rachis_seen_to * length && std::fabs(x) <= 0.5 * shaft_width * (1.0 - 0.5 * y / length))
       return 2;
     if (y < 0 || y > length) return 0;
     const int side = x < 0 ? -1 : 1;
     const double hw = half_width(y, side);
     if (std::fabs(x) > hw) return side == wide_side() && hw > 0 && std::fabs(x) <= hw + shadow ? 4 : 0;
     if (side == wide_side() && std::fabs(x) > hw - fringe) return 3;
+    if (decoy_bulge != 0 && y > decoy_from * length && y < decoy_to * length) {
+      const double u = (y - decoy_from * length) / ((decoy_to - decoy_from) * length);
+      const double off = decoy_bulge * std::sin(kPi * u);
+      if (std::fabs(off) >= decoy_gap && std::fabs(x - off) <= 0.5 * shaft_width) return 5;
+    }
     const double phase = (y - std::fabs(x) / std::tan(theta_deg * kPi / 180)) / spacing;
     const bool downy = (downy_side == 0 || downy_side == side) &&
                        y < vane_start() + downy_to * (length - vane_start());
@@ -97,10 +111,10 @@ struct SyntheticFeather {
           for (int sx = 0; sx < 3; ++sx) {
             double shade;
             const int c = classify({x + (sx + 0.5) / 3.0, y + (sy + 0.5) / 3.0}, shade);
+            const double a = along(x + (sx + 0.5) / 3.0, y + (sy + 0.5) / 3.0);
             acc += c == 0   ? bg
-                   : c == 2 ? (calamus_colour && along(x + (sx + 0.5) / 3.0, y + (sy + 0.5) / 3.0) < vane_start()
-                                   ? *calamus_colour
-                                   : rachis)
+                   : c == 2 ? (calamus_colour && a < vane_start() ? *calamus_colour : rachis)
+                   : c == 5 ? rachis
                    : c == 3 ? glm::mix(vane, glm::vec3(1.f), 0.6f)
                    : c == 4 ? bg * 0.8f
                             : vane * float(shade);

@@ -418,4 +418,76 @@ BSpline3 fit_bspline(std::span<const glm::dvec3> points, int num_control_points,
   return BSpline3(std::move(cp));
 }
 
+BSpline3 fit_bspline_penalised(std::span<const glm::dvec3> points, std::span<const double> params,
+                               std::span<const double> weights, int num_control_points, int order,
+                               double lambda) {
+  const char* fn = "fit_bspline_penalised: ";
+  if (num_control_points < 4)
+    throw Error(std::string(fn) + "a cubic B-spline needs at least 4 control points, asked for " +
+                std::to_string(num_control_points));
+  if (order < 1 || order > int(BandedNormalEquations::kBand))
+    throw Error(std::string(fn) + "the penalty's order must be 1 to 3, not " + std::to_string(order));
+  if (!(lambda >= 0 && std::isfinite(lambda)))
+    throw Error(std::string(fn) + "the penalty's weight must be finite and >= 0");
+  const std::size_t n = std::size_t(num_control_points), m = points.size();
+  if (params.size() != m || weights.size() != m)
+    throw Error(std::string(fn) + "give one parameter and one weight per point");
+  for (std::size_t j = 0; j < m; ++j) {
+    if (!finite(points[j])) throw Error(std::string(fn) + "point " + std::to_string(j) + " is not finite");
+    if (!(params[j] >= 0.0 && params[j] <= 1.0))
+      throw Error(std::string(fn) + "parameter " + std::to_string(j) + " is outside [0,1]");
+    if (!(weights[j] >= 0.0 && std::isfinite(weights[j])))
+      throw Error(std::string(fn) + "weight " + std::to_string(j) + " must be finite and >= 0");
+  }
+  // Centred on the weighted mean and scaled to about unit size, as fit_bspline.
+  glm::dvec3 origin(0);
+  double total = 0;
+  for (std::size_t j = 0; j < m; ++j) origin += weights[j] * points[j], total += weights[j];
+  if (!(total > 0)) throw Error(std::string(fn) + "every weight is 0");
+  origin /= total;
+  double scale = 0;  // over the weighted points: those of weight 0 change nothing
+  for (std::size_t j = 0; j < m; ++j) {
+    if (weights[j] == 0) continue;
+    const glm::dvec3 d = glm::abs(points[j] - origin);
+    scale = std::fmax(scale, std::fmax(d.x, std::fmax(d.y, d.z)));
+  }
+  if (!std::isfinite(scale)) throw Error(std::string(fn) + "the points span more than a double can hold");
+  if (scale == 0) scale = 1;
+
+  BandedNormalEquations eq(n);
+  const BSpline3 shape{std::vector<glm::dvec3>(n)};
+  std::vector<BandedNormalEquations::Term> terms;
+  for (std::size_t j = 0; j < m; ++j) {
+    if (weights[j] == 0) continue;
+    std::size_t seg;
+    double u;
+    shape.locate(params[j], seg, u);
+    const auto b = CubicBSplineBasis::eval(u);
+    terms.clear();
+    for (std::size_t k = 0; k < 4; ++k) terms.push_back({seg + k, b[k]});
+    eq.add_row(terms, (points[j] - origin) / scale, weights[j]);
+  }
+  // The order-th difference: binomial coefficients with alternating signs.
+  std::vector<double> diff{1.0};
+  for (int k = 0; k < order; ++k) {
+    std::vector<double> next(diff.size() + 1, 0.0);
+    for (std::size_t i = 0; i < diff.size(); ++i) next[i] -= diff[i], next[i + 1] += diff[i];
+    diff = std::move(next);
+  }
+  if (lambda > 0)
+    for (std::size_t i = 0; i + order < n; ++i) {
+      terms.clear();
+      for (std::size_t k = 0; k < diff.size(); ++k) terms.push_back({i + k, diff[k]});
+      eq.add_row(terms, glm::dvec3(0), lambda);
+    }
+  std::vector<glm::dvec3> x;
+  if (!eq.solve(x, 1e-13))
+    throw Error(std::string(fn) + "the weighted points do not determine a curve; give weight to more points");
+  for (glm::dvec3& p : x) {
+    p = origin + scale * p;
+    if (!finite(p)) throw Error(std::string(fn) + "the fit diverged (non-finite control point)");
+  }
+  return BSpline3(std::move(x));
+}
+
 }  // namespace plumage

@@ -197,6 +197,8 @@ struct Reader {
     f.shaft_width_mm = number(member(sh, p + "/shaft", "width_mm"), p + "/shaft/width_mm", 0.0);
     f.shaft_confidence =
         number(member(sh, p + "/shaft", "confidence"), p + "/shaft/confidence", 0, 1);
+    if (sh.contains("seen_as_ridge"))
+      f.shaft_seen = number(sh["seen_as_ridge"], p + "/shaft/seen_as_ridge", 0, 1);
     f.stations_t = numbers(member(j, p, "stations_t"), p + "/stations_t", 0, 0.0, 1.0);
     if (f.stations_t.empty()) fail(p + "/stations_t", "expected at least one station");
     // The analysis writes a few dozen; layout -> params smooths along them in
@@ -277,6 +279,39 @@ const char* to_string(ScaleSource s) {
   return "default";
 }
 
+double shaft_s_ness(const BSpline2& shaft) {
+  constexpr int kSamples = 513;
+  std::vector<glm::dvec2> pts(kSamples);
+  double length = 0;
+  for (int i = 0; i < kSamples; ++i) {
+    pts[i] = shaft.eval(double(i) / (kSamples - 1));
+    if (i > 0) length += glm::length(pts[i] - pts[i - 1]);
+  }
+  const glm::dvec2 chord = pts.back() - pts.front();
+  if (!(length > 0) || !(glm::length(chord) > 0)) return 0.0;
+  const glm::dvec2 e = chord / glm::length(chord), n(-e.y, e.x);
+  // Least squares v = a + b u + c u^2 (u along the chord in units of its length,
+  // v across it) from its normal equations.
+  const double scale = glm::length(chord);
+  double S[5] = {0, 0, 0, 0, 0}, T[3] = {0, 0, 0};
+  std::vector<double> u(kSamples), v(kSamples);
+  for (int i = 0; i < kSamples; ++i) {
+    u[i] = glm::dot(pts[i] - pts.front(), e) / scale;
+    v[i] = glm::dot(pts[i] - pts.front(), n);
+    double p = 1;
+    for (int k = 0; k < 5; ++k) S[k] += p, p *= u[i];
+    T[0] += v[i], T[1] += v[i] * u[i], T[2] += v[i] * u[i] * u[i];
+  }
+  const glm::dmat3 A(S[0], S[1], S[2], S[1], S[2], S[3], S[2], S[3], S[4]);
+  const double det = glm::determinant(A);
+  if (!(std::fabs(det) > 1e-12)) return 0.0;
+  const glm::dvec3 coef = glm::inverse(A) * glm::dvec3(T[0], T[1], T[2]);
+  double worst = 0;
+  for (int i = 0; i < kSamples; ++i)
+    worst = std::max(worst, std::fabs(v[i] - (coef[0] + coef[1] * u[i] + coef[2] * u[i] * u[i])));
+  return worst / length;
+}
+
 std::string layout_to_json(const Layout& L) {
   ojson feathers = ojson::array();
   for (const FeatherLayout& f : L.feathers) {
@@ -294,7 +329,9 @@ std::string layout_to_json(const Layout& L) {
                               {{"control_points_mm", cps},
                                {"length_mm", f.length_mm},
                                {"width_mm", f.shaft_width_mm},
-                               {"confidence", f.shaft_confidence}}},
+                               {"confidence", f.shaft_confidence},
+                               {"seen_as_ridge", f.shaft_seen},
+                               {"s_ness", shaft_s_ness(f.shaft_mm)}}},
                              {"stations_t", f.stations_t},
                              {"vanes", {{"left", profile(f.left)}, {"right", profile(f.right)}}},
                              {"albedo",

@@ -275,6 +275,7 @@ void analyze_feather(const Photo& photo, const Segmentation& seg, const Componen
   f.length_mm = spline_length(f.shaft_mm);
   f.shaft_width_mm = shaft.width_px * mm_per_work_px;
   f.shaft_confidence = shaft.confidence;
+  f.shaft_seen = shaft.seen;
 
   VaneMeasure vm = measure_vanes(photo.bgr, comp, shaft_px, shaft.width_px, opt.stations);
   f.stations_t = vm.t;

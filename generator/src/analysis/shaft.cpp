@@ -187,6 +187,103 @@ std::vector<double> robust_smooth(const std::vector<cv::Point2d>& path, int half
   return fit;
 }
 
+// The rachis as the photo shows it where it shows it, and as the smoothest
+// continuation where it does not (docs/analysis.md, "The rachis"). `path`: one
+// point per row (x: column, y: row) in row order, the best path through the
+// ridge and chevron scores; `rho`: the ridge there over the feather's mean
+// ridge; `lo`, `hi`: the mask's first and last column in each row.
+//  * Seen rows. A row is a candidate when its ridge is at least kSeenRidge times
+//    the mean. The rachis continues the calamus, so the first run of candidates
+//    from the calamus end (gaps of at most kRunGap rows; at least kMinRunRows
+//    and a tenth of the rows; else the longest run) is seen; then, round by
+//    round, every candidate within kGateMin + kGateGrowth x (rows from the
+//    nearest seen row) of the curve fitted so far is seen too. A line that runs
+//    beside the rachis where it is hidden (a bar's edge, the colour boundary
+//    between the vanes) is left out.
+//  * The curve: a penalised least-squares cubic B-spline (fit_bspline_penalised,
+//    K = rows / 6 segments, 4 to 24) through the seen rows (weight 1) and, in
+//    rows narrower than kNarrow of the widest (the bare quill, a pointed tip),
+//    the mask's middle (weight 12 / width^2, the inverse variance of a point
+//    spread evenly across the row; wider rows are left out, since over a narrow
+//    and a wide vane the middle is biased toward the wide one), with a
+//    third-difference penalty: where nothing is seen the curve goes on as a
+//    parabola, and it bends in an S only where seen rows make it. The penalty's
+//    weight kStiffness n K^5 / (2 pi)^6 (n rows) passes half of an S one period
+//    long over the shaft and a 65th of one half as long. Rows where the curve
+//    comes within kInside px of the mask's edge are held there (weight 1).
+struct RachisFit {
+  std::vector<double> x;  // per row
+  double seen = 0;        // share of the rows seen
+};
+RachisFit fit_rachis(const std::vector<cv::Point2d>& path, const std::vector<double>& rho,
+                     const std::vector<int>& lo, const std::vector<int>& hi, bool calamus_at_bottom) {
+  constexpr double kSeenRidge = 3.0, kGateMin = 2.0, kGateGrowth = 0.02, kStiffness = 1.0;
+  constexpr double kNarrow = 0.3, kInside = 1.5;
+  constexpr int kRunGap = 2, kMinRunRows = 5;
+  const int n = int(path.size());
+  std::vector<char> candidate(n), seen(n, 0);
+  for (int i = 0; i < n; ++i) candidate[i] = rho[i] >= kSeenRidge;
+  // The first long enough run of candidates from the calamus end; else the longest.
+  const int min_run = std::max(kMinRunRows, n / 10);
+  auto row = [&](int k) { return calamus_at_bottom ? n - 1 - k : k; };
+  int best_from = -1, best_to = -1, best_len = 0;
+  for (int k = 0; k < n;) {
+    if (!candidate[row(k)]) {
+      ++k;
+      continue;
+    }
+    int last = k, len = 0;
+    for (int j = k; j < n && j - last <= kRunGap + 1; ++j)
+      if (candidate[row(j)]) last = j, ++len;
+    if (len > best_len) best_from = k, best_to = last, best_len = len;
+    if (len >= min_run) break;
+    k = last + 1;
+  }
+  for (int k = best_from; k >= 0 && k <= best_to; ++k) seen[row(k)] = candidate[row(k)];
+
+  const int segments = std::clamp(n / 6, 4, 24);
+  const double lambda = kStiffness * n * std::pow(segments, 5) / std::pow(2 * kPi, 6);
+  std::vector<glm::dvec3> pts(n);
+  std::vector<double> t(n), w(n);
+  for (int i = 0; i < n; ++i) t[i] = n > 1 ? double(i) / (n - 1) : 0.0;
+  std::vector<double> widths(n);
+  for (int i = 0; i < n; ++i) widths[i] = std::max(1, hi[i] - lo[i] + 1);
+  const double widest = *std::max_element(widths.begin(), widths.end());
+  std::vector<double> bound(n, 0.0);  // where the curve is held inside the mask: the column it is held to
+  std::vector<char> held(n, 0);
+  RachisFit fit;
+  fit.x.assign(n, 0.0);
+  for (int round = 0; round < 40; ++round) {
+    for (int i = 0; i < n; ++i) {
+      const double wm = widths[i] <= kNarrow * widest ? 12.0 / (widths[i] * widths[i]) : 0.0;
+      const double ws = seen[i] ? 1.0 : 0.0, wb = held[i] ? 1.0 : 0.0;
+      w[i] = ws + wm + wb;
+      const double x = w[i] > 0 ? (ws * path[i].x + wm * 0.5 * (lo[i] + hi[i]) + wb * bound[i]) / w[i] : path[i].x;
+      pts[i] = glm::dvec3(x, 0.0, 0.0);
+    }
+    const BSpline3 c = fit_bspline_penalised(pts, t, w, segments + 3, 3, lambda);
+    for (int i = 0; i < n; ++i) fit.x[i] = c.eval(t[i]).x;
+    // Rows from the nearest seen row, both ways.
+    std::vector<int> dist(n, n);
+    for (int i = 0, d = n; i < n; ++i) dist[i] = d = seen[i] ? 0 : std::min(n, d + 1);
+    for (int i = n - 1, d = n; i >= 0; --i) dist[i] = std::min(dist[i], d = seen[i] ? 0 : std::min(n, d + 1));
+    bool grew = false;
+    for (int i = 0; i < n; ++i) {
+      if (candidate[i] && !seen[i] && std::fabs(path[i].x - fit.x[i]) <= kGateMin + kGateGrowth * dist[i])
+        seen[i] = 1, grew = true;
+      const double margin = std::min(kInside, 0.25 * (hi[i] - lo[i]));
+      if (!held[i] && (fit.x[i] < lo[i] + margin || fit.x[i] > hi[i] - margin)) {
+        held[i] = 1, grew = true;
+        bound[i] = fit.x[i] < lo[i] + margin ? lo[i] + margin : hi[i] - margin;
+      }
+    }
+    if (!grew) break;
+  }
+  for (int i = 0; i < n; ++i) fit.x[i] = std::clamp(fit.x[i], double(lo[i]), double(hi[i]));
+  fit.seen = n > 0 ? double(std::count(seen.begin(), seen.end(), 1)) / n : 0.0;
+  return fit;
+}
+
 // Near a rounded tip the rachis fades out before the outline ends, and the best
 // path there follows noise to the apex of the outline. From where the ridge
 // along the path last holds a third of its typical strength, the path goes on
@@ -666,6 +763,34 @@ Shaft trace_along(const cv::Mat& bgr, const Component& f, const cv::Point2d& c, 
   bool strays = false;
   for (std::size_t i = 0; i < rows_path.size(); ++i) strays |= std::fabs(rows_path[i].x - centre[i]) > corridor;
   if (strays) rows_path = best_path(score, M, width, r0, r1, lambda, centre, corridor);
+  // The rachis seen and inferred, then traced again close to that curve so that
+  // the path lies on the rachis wherever it shows, and fitted again.
+  std::vector<int> row_lo(H, 0), row_hi(H, 0);
+  for (int y = 0, last_lo = 0, last_hi = W - 1; y < H; ++y) {
+    const uchar* m = M.ptr<uchar>(y);
+    int a = -1, b = -1;
+    for (int x = 0; x < W; ++x)
+      if (m[x]) b = x, a = a < 0 ? x : a;
+    if (a >= 0) last_lo = a, last_hi = b;
+    row_lo[y] = last_lo, row_hi[y] = last_hi;
+  }
+  auto rachis = [&](const std::vector<cv::Point2d>& p) {
+    std::vector<double> rho(p.size());
+    std::vector<int> lo(p.size()), hi(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const int y = int(p[i].y), x = int(p[i].x);
+      float r = 0;
+      for (int dx = -1; dx <= 1; ++dx) r = std::max(r, ridge.at<float>(y, std::clamp(x + dx, 0, W - 1)));
+      rho[i] = r / std::max(mean_ridge, 1e-6);
+      lo[i] = row_lo[y], hi[i] = row_hi[y];
+    }
+    return fit_rachis(p, rho, lo, hi, calamus_at_bottom);
+  };
+  const RachisFit first = rachis(rows_path);
+  rows_path = best_path(score, M, width, r0, r1, lambda, first.x, std::max(2.0, 0.05 * median(widths)));
+  const RachisFit fitted = rachis(rows_path);
+  for (std::size_t i = 0; i < rows_path.size(); ++i) rows_path[i].x = fitted.x[i];
+  shaft.seen = fitted.seen;
   double on_path = 0;
   for (const cv::Point2d& p : rows_path) on_path += ridge.at<float>(int(p.y), int(p.x));
 

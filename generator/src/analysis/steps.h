@@ -97,6 +97,7 @@ struct Shaft {
   std::vector<cv::Point2d> path;  // calamus to tip, working pixels
   double width_px = 0;            // at the calamus
   double confidence = 0;
+  double seen = 0;  // share of the path's rows where the rachis was seen as a ridge
   // 2: two quills leave the calamus end side by side (two feathers with
   // overlapping vanes, one blob); then nothing else is traced.
   int quills = 1;

@@ -153,6 +153,20 @@ class ArcLengthTable {
 BSpline3 fit_bspline(std::span<const glm::dvec3> points, int num_control_points,
                      std::span<const double> params = {}, bool clamp_ends = true);
 
+// Penalised weighted least squares (the P-splines of Eilers & Marx, "Flexible
+// smoothing with B-splines and penalties", Stat. Sci. 1996): the uniform cubic
+// B-spline with `num_control_points` (>= 4) control points c minimising
+//   sum_j weights[j] |C(params[j]) - points[j]|^2 + lambda sum_i |D^order c_i|^2
+// where D^order is the order-th difference of consecutive control points
+// (order 1..3). Curves whose control points are a polynomial of degree < order
+// in their index cost nothing: with order 3, parabolas are free and a bend in
+// an S is paid for, so where the weights are small the curve goes on as a
+// parabola. Weights >= 0, params in [0,1]; throws plumage::Error on bad input
+// or when the weighted points and the penalty leave the curve undetermined.
+BSpline3 fit_bspline_penalised(std::span<const glm::dvec3> points, std::span<const double> params,
+                               std::span<const double> weights, int num_control_points, int order,
+                               double lambda);
+
 // Control points of a uniform cubic B-spline that starts exactly at `points.front()`
 // and ends exactly at `points.back()` and passes near the interior points: the
 // interior points are taken as control points and a phantom point is added at each

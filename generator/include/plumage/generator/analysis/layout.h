@@ -79,6 +79,9 @@ struct FeatherLayout {
   double length_mm = 0.0;       // shaft arc length
   double shaft_width_mm = 0.0;  // at the calamus
   double shaft_confidence = 0.0;
+  // Share of the shaft's length that the analysis saw as a ridge (the rachis
+  // itself); the rest was inferred (the barbs' chevron, the smoothness prior).
+  double shaft_seen = 0.0;
   std::vector<double> stations_t;  // shared by both sides
   VaneProfile left, right;         // seen from the dorsal side, tip up
   AlbedoTexture albedo;
@@ -106,6 +109,12 @@ struct Layout {
   std::vector<FeatherLayout> feathers;
   std::vector<SkippedRegion> skipped;  // in id order
 };
+
+// How far a shaft bends in an S: the largest distance of the curve from the
+// parabola fitted to it by least squares (in the frame of its chord, calamus to
+// tip, 513 points evenly spaced in t), as a fraction of its arc length. A straight
+// shaft or a simple arc gives about 0; docs/analysis.md, "The rachis".
+double shaft_s_ness(const BSpline2& shaft);
 
 // Maps a point with a 2x3 affine matrix.
 inline glm::dvec2 apply(const glm::dmat3x2& A, const glm::dvec2& p) {
