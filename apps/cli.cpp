@@ -5,11 +5,13 @@
 #include <cstring>
 #include <iostream>
 #include <memory>
+#include <unistd.h>
 
 #include "command.h"
 #include "option_checks.h"
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
+#include "plumage/common/interrupt.h"
 #include "plumage/common/progress.h"
 #include "plumage/common/stats.h"
 
@@ -73,6 +75,7 @@ int stdout_checked(int rc) {
 }  // namespace
 
 int run_command_line(int argc, const char* const* argv) {
+  install_interrupt_handlers();  // SIGINT, SIGTERM: stop, leave nothing behind (interrupt.h)
   std::function<int()> run;
   if (const int rc = parse_command_line(argc, argv, run); rc >= 0) return stdout_checked(rc);
   ProgressBar::set_quiet(g_options.quiet);
@@ -80,7 +83,15 @@ int run_command_line(int argc, const char* const* argv) {
   try {
     const int rc = run ? run() : 0;
     if (g_options.stats) stats_print(std::cerr);
+    // A signal after the last checkpoint: the outputs are complete, but a script
+    // looping over photos must still see that it was asked to stop.
+    check_interrupted();
     return stdout_checked(rc);
+  } catch (const Interrupted& e) {
+    // Unwound: every staged output's temporary is gone, a folder the run made too.
+    ::alarm(0);
+    std::cerr << "plumage: " << e.what() << ": stopped, its temporary files removed\n";
+    return e.exit_code();
   } catch (const Error& e) {
     std::cerr << "plumage: error: " << e.what() << "\n";
     return 1;

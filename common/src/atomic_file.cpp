@@ -119,13 +119,14 @@ void FileBatch::stage(const fs::path& path, const std::function<void(const fs::p
     if (fs::weakly_canonical(s.target, ec) == fs::weakly_canonical(path, ec) || s.target == path)
       throw Error(Location{path.string()}, "two outputs of this command name the same file; give each its own");
   const fs::path tmp = sibling_name(path, ".tmp-");
+  RemovedOnSignal on_signal(tmp);
   try {
     write(tmp);
   } catch (...) {
     remove_quietly(tmp);
     throw;
   }
-  staged_.push_back({tmp, path});
+  staged_.push_back({tmp, path, std::move(on_signal)});
 }
 
 void FileBatch::stage_text(const fs::path& path, std::string_view contents) {
@@ -140,6 +141,7 @@ void FileBatch::stage_text(const fs::path& path, std::string_view contents) {
 }
 
 void FileBatch::commit() {
+  check_interrupted();  // stopped before any rename: every target stays as it was
   // A target that exists is kept under a hard link until every rename has
   // succeeded, so a failed rename can put the earlier ones back.
   struct Done {

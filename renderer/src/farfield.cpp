@@ -16,6 +16,7 @@
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/constants.h"
 #include "plumage/common/error.h"
+#include "plumage/common/interrupt.h"
 #include "plumage/common/stats.h"
 
 namespace plumage {
@@ -415,6 +416,8 @@ std::shared_ptr<const FarfieldModel> farfield_model(const FarfieldGeometry& g, c
       try {
         std::filesystem::create_directories(cache_dir);
         write_file_atomic(file, m->serialize(key));
+      } catch (const Interrupted&) {
+        throw;  // a signal stops the run, not only the cache
       } catch (const std::exception& e) {
         std::cerr << "plumage: warning: far-field cache " << file.string() << " not written: " << e.what() << "\n";
       }

@@ -17,6 +17,7 @@
 #include <tbb/task_arena.h>
 
 #include "plumage/common/error.h"
+#include "plumage/common/interrupt.h"
 #include "plumage/renderer/farfield.h"
 #include "plumage/renderer/fibre_frame.h"
 #include "plumage/renderer/sampler.h"
@@ -97,6 +98,7 @@ FarfieldModel measure_farfield(const FarfieldGeometry& g, const HairParams* mate
   tbb::task_arena arena(s.threads > 0 ? s.threads : tbb::task_arena::automatic);
   arena.execute([&] {
     tbb::parallel_for(0, n, [&](int b) {
+      check_interrupted();  // SIGINT or SIGTERM: stop here, unwinding (interrupt.h)
       // Straight transmittance: the share of rays that meet nothing.
       int through = 0;
       for (int k = 0; k < s.paths_per_bin; ++k) {

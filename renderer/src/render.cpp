@@ -14,6 +14,7 @@
 
 #include "float_mode.h"
 #include "plumage/common/error.h"
+#include "plumage/common/interrupt.h"
 #include "plumage/common/progress.h"
 #include "plumage/common/stats.h"
 
@@ -113,6 +114,7 @@ Film render(const Camera& camera, const PathIntegrator& integrator, const Render
   const auto start = std::chrono::steady_clock::now();
   // Takes pixel samples taken[i] .. target[i]-1 over one tile.
   auto render_tile = [&](int tx, int ty, bool first_pass) {
+    check_interrupted();  // SIGINT or SIGTERM: stop here, unwinding (interrupt.h)
     const detail::FtzDazScope ftz_daz;  // in every thread, whatever its mode (float_mode.h)
     PixelSampler sampler(settings.sampler, settings.seed);
     PathCounters counters;

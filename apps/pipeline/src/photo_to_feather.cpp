@@ -10,6 +10,7 @@
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
+#include "plumage/common/interrupt.h"
 #include "plumage/generator/layout_to_params.h"
 #include "plumage/pipeline/photo_comparison.h"
 
@@ -26,14 +27,21 @@ class Stages {
   void run(const std::string& name, std::vector<fs::path>& written, const std::function<std::string()>& body) {
     const auto t0 = std::chrono::steady_clock::now();
     std::string report;
-    try {
-      report = body();
-    } catch (const std::exception& e) {
+    auto remove_written = [&] {
       for (const auto& p : written) {
         std::error_code ec;
         fs::remove(p, ec);
       }
       written.clear();
+    };
+    try {
+      check_interrupted();
+      report = body();
+    } catch (const Interrupted&) {
+      remove_written();
+      throw;  // as it is: the CLI exits 128 + signal
+    } catch (const std::exception& e) {
+      remove_written();
       throw Error("photo-to-feather: stage '" + name + "' failed: " + e.what());
     }
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -62,6 +70,9 @@ void photo_to_feather(const PhotoToFeatherSettings& o, const StageReport& report
     throw Error(Location{out.string()}, "exists and is not a folder; give -o a folder for the artifacts");
   const bool created = !fs::exists(out);
   fs::create_directories(out);
+  // A folder this run made is removed when a signal stops it (interrupt.h); the
+  // handler's last resort removes it only when empty.
+  const RemovedOnSignal made_by_this_run = created ? RemovedOnSignal(out, true) : RemovedOnSignal();
   Stages stages(report);
   std::vector<fs::path> files;  // finished stages' artifacts, for the summary
 
@@ -179,7 +190,8 @@ void photo_to_feather(const PhotoToFeatherSettings& o, const StageReport& report
     });
   } catch (...) {
     std::error_code ec;
-    if (created && fs::is_empty(out, ec)) fs::remove(out, ec);
+    if (created && interrupt_signal()) fs::remove_all(out, ec);  // stopped by a signal: as if never run
+    else if (created && fs::is_empty(out, ec)) fs::remove(out, ec);
     throw;
   }
 }

@@ -10,6 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include "plumage/common/interrupt.h"
+
 namespace plumage {
 
 // While one of these lives (a command's run holds one), every input opened
@@ -51,6 +53,7 @@ class FileBatch {
  private:
   struct Staged {
     std::filesystem::path tmp, target;
+    RemovedOnSignal on_signal;  // the signal handler's last resort removes `tmp` too
   };
   std::vector<Staged> staged_;
 };
