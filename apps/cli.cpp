@@ -14,6 +14,7 @@
 #include "plumage/common/interrupt.h"
 #include "plumage/common/progress.h"
 #include "plumage/common/stats.h"
+#include "plumage/common/text.h"
 
 namespace plumage::cli {
 
@@ -54,7 +55,7 @@ int parse_command_line(int argc, const char* const* argv, std::function<int()>& 
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-    std::cerr << "plumage: error: " << e.what() << " (see `plumage --help`)\n";
+    std::cerr << "plumage: error: " << printable(e.what()) << " (see `plumage --help`)\n";
     return 2;
   }
   return -1;
@@ -92,11 +93,8 @@ int run_command_line(int argc, const char* const* argv) {
     ::alarm(0);
     std::cerr << "plumage: " << e.what() << ": stopped, its temporary files removed\n";
     return e.exit_code();
-  } catch (const Error& e) {
-    std::cerr << "plumage: error: " << e.what() << "\n";
-    return 1;
-  } catch (const std::exception& e) {
-    std::cerr << "plumage: error: " << e.what() << "\n";
+  } catch (const std::exception& e) {  // plumage::Error and the rest: one line, valid text
+    std::cerr << "plumage: error: " << printable(e.what()) << "\n";
     return 1;
   }
 }

@@ -111,7 +111,7 @@ void print_json(std::ostream& out, const std::string& file, const Feather& f, co
   j["medulla"] = {{"ratio", decimal(f.medulla.ratio)},
                   {"sigma_s", rgb(f.medulla.sigma_s)},
                   {"sigma_a", rgb(f.medulla.sigma_a)}};
-  out << j.dump(2) << "\n";
+  out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
 }
 
 void print_text(std::ostream& out, const std::string& file, const Feather& f, const Summary& s) {

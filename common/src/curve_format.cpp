@@ -6,7 +6,9 @@
 // offending token, so a person editing a file by hand is told where and what.
 #include "plumage/common/curve_format.h"
 
+#include <algorithm>
 #include <charconv>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <system_error>
@@ -15,6 +17,7 @@
 #include "float_text.h"
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
+#include "plumage/common/text.h"
 #include "plumage/common/stats.h"
 
 namespace plumage {
@@ -60,6 +63,8 @@ void validate_feather(const Feather& f) {
     fail("provenance source contains a control character (newline, tab, ...)");
   if (!printable_string(f.albedo.texture))
     fail("albedo texture path contains a control character (newline, tab, ...)");
+  if (invalid_utf8_at(f.provenance.source) != std::string_view::npos) fail("provenance source is not UTF-8 text");
+  if (invalid_utf8_at(f.albedo.texture) != std::string_view::npos) fail("albedo texture path is not UTF-8 text");
   auto finite3 = [](const glm::vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
   };
@@ -287,6 +292,17 @@ void Reader::expect_count(std::size_t n, const std::string& form) const {
 void Reader::parse_header_line() {
   if (text_.starts_with("\xEF\xBB\xBF"))
     throw Error(Location{file_, 1, 1}, "the file starts with a UTF-8 byte-order mark: save it without one");
+  // Strings read here reach JSON, XML, Python and pbrt writers: UTF-8 only.
+  if (const std::size_t bad = invalid_utf8_at(text_); bad != std::string_view::npos) {
+    const std::string_view before = text_.substr(0, bad);
+    const std::size_t line_start = before.rfind('\n');
+    const int line = 1 + int(std::count(before.begin(), before.end(), '\n'));
+    const int column = 1 + int(line_start == std::string_view::npos ? bad : bad - line_start - 1);
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "0x%02X", static_cast<unsigned char>(text_[bad]));
+    throw Error(Location{file_, line, column},
+                std::string("byte ") + hex + " is not UTF-8 text: save the file as UTF-8");
+  }
   if (!next_line()) line_no_ = 1;  // an empty file: point at its first line
   if (line_no_ != 1 || tok_.empty() || tok_[0].text != "fcurves")
     fail(1, "missing header: the first line must be 'fcurves " + std::to_string(kFcurvesVersion) +

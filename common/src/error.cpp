@@ -1,10 +1,12 @@
 #include "plumage/common/error.h"
 
+#include "plumage/common/text.h"
+
 namespace plumage {
 
 std::string format_location(const Location& where) {
   if (where.file.empty()) return {};
-  std::string s = where.file;
+  std::string s = printable(where.file);  // a newline in a file name keeps the message one line
   if (where.line > 0) {
     s += ':';
     s += std::to_string(where.line);

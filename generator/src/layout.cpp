@@ -44,7 +44,7 @@ void dump(const ojson& j, int indent, std::string& out) {
     out += "{\n";
     std::size_t i = 0;
     for (auto it = j.begin(); it != j.end(); ++it, ++i) {
-      out += pad + ojson(it.key()).dump() + ": ";
+      out += pad + ojson(it.key()).dump(-1, ' ', false, ojson::error_handler_t::replace) + ": ";
       dump(it.value(), indent + 2, out);
       out += i + 1 < j.size() ? ",\n" : "\n";
     }
@@ -70,7 +70,7 @@ void dump(const ojson& j, int indent, std::string& out) {
     std::snprintf(buf, sizeof buf, "%.7g", j.get<double>());
     out += buf;
   } else {
-    out += j.dump();
+    out += j.dump(-1, ' ', false, ojson::error_handler_t::replace);
   }
 }
 

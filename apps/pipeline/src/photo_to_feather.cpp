@@ -185,7 +185,7 @@ void photo_to_feather(const PhotoToFeatherSettings& o, const StageReport& report
       for (const auto& s : warnings) w.push_back("generate: " + s);
       j["warnings"] = w;
       written.push_back(summary_path);
-      write_file_atomic(summary_path, j.dump(2) + "\n");
+      write_file_atomic(summary_path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
       return "-> summary.json";
     });
   } catch (...) {
