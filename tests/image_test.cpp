@@ -10,12 +10,14 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
+#include "image_codecs.h"
 
 using namespace plumage;
 namespace fs = std::filesystem;
@@ -294,4 +296,55 @@ TEST_F(ImageFiles, BadWritesNameTheFileAndLeaveTheOldOneUntouched) {
   int files = 0;
   for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++files;
   EXPECT_EQ(files, 2);
+}
+
+// Finite everywhere (issue 37 item 5): a float file's NaN and infinities are read
+// as finite values, counted and warned about; no writer puts one in a file.
+TEST_F(ImageFiles, FloatFilesWithNaNOrInfinityAreReadFinite) {
+  Image img(3, 2, 1);
+  img.pixels = {0.2f, 3.0f, std::nanf(""), std::numeric_limits<float>::infinity(),
+                -std::numeric_limits<float>::infinity(), -0.5f};
+  const fs::path f = dir_ / "hostile.exr";
+  codec::write_exr(f, f, img);  // the raw writer: write_image would make them finite first
+  ImageSource source;
+  const Image back = read_image(f, true, kMaxImageMegapixels, &source);
+  EXPECT_EQ(source.replaced, 3u);
+  const std::vector<float> expected{0.2f, 3.0f, 0.0f, 3.0f, -0.5f, -0.5f};
+  ASSERT_EQ(back.pixels.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(back.pixels[i], expected[i]) << i;
+  // A finite file is read as it is, and says so.
+  Image fine = img;
+  for (float& v : fine.pixels)
+    if (!std::isfinite(v)) v = 1.0f;
+  write_image(dir_ / "fine.exr", fine);
+  ImageSource none;
+  (void)read_image(dir_ / "fine.exr", true, kMaxImageMegapixels, &none);
+  EXPECT_EQ(none.replaced, 0u);
+}
+
+TEST_F(ImageFiles, NoWriterPutsANonFiniteValueInAFile) {
+  const float inf = std::numeric_limits<float>::infinity();
+  for (const int channels : {3, 4}) {
+    Image img = random_image(8, 6, channels, 0.0f, 2.0f, 3);
+    img.pixels[0] = std::nanf("");
+    img.pixels[1] = inf;
+    img.pixels[2] = -inf;
+    if (channels == 4) img.pixels[3] = std::nanf("");  // an alpha
+    img.pixels[std::size_t(2 * channels + 1)] = inf;
+    for (const std::string ext : {".exr", ".png", ".jpg", ".hdr", ".tif"}) {
+      if ((ext == ".jpg" || ext == ".hdr") && channels == 4) continue;  // RGB only
+      SCOPED_TRACE(ext + ", " + std::to_string(channels) + " channels");
+      const fs::path f = dir_ / ("out" + std::to_string(channels) + ext);
+      ASSERT_NO_THROW(write_image(f, img));
+      ImageSource source;
+      const Image back = read_image(f, true, kMaxImageMegapixels, &source);
+      EXPECT_EQ(source.replaced, 0u) << "the file holds NaN or infinity";
+      for (const float v : back.pixels) ASSERT_TRUE(std::isfinite(v));
+      if (ext == ".exr") {
+        EXPECT_EQ(back.pixels[0], 0.0f);
+        EXPECT_EQ(back.pixels[1], std::numeric_limits<float>::max());
+        EXPECT_EQ(back.pixels[2], -std::numeric_limits<float>::max());
+      }
+    }
+  }
 }

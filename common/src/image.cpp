@@ -6,12 +6,14 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <memory>
 #include <sstream>
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
+#include "plumage/common/text.h"
 #include "image_codecs.h"
 
 namespace plumage {
@@ -79,12 +81,44 @@ struct SrgbCodes {
 
 // The 8-bit samples of `img`: colour through the sRGB curve, alpha (the last of
 // 2 or 4 channels) linear, both clamped to [0,1].
+// NaN samples to 0, +Inf to the image's largest finite sample and -Inf to its
+// smallest (0 when it has none beyond 0 that way); the count changed.
+std::size_t make_finite(Image& img) {
+  float largest = 0.0f, smallest = 0.0f;
+  for (const float v : img.pixels)
+    if (std::isfinite(v)) largest = std::max(largest, v), smallest = std::min(smallest, v);
+  std::size_t replaced = 0;
+  for (float& v : img.pixels) {
+    if (std::isfinite(v)) continue;
+    v = std::isnan(v) ? 0.0f : v > 0 ? largest : smallest;
+    ++replaced;
+  }
+  return replaced;
+}
+
+// A copy of `img` that a float file can hold: NaN as 0, +-Inf as +-FLT_MAX.
+Image finite_copy(const Image& img) {
+  Image out = img;
+  for (float& v : out.pixels)
+    if (std::isnan(v)) v = 0.0f;
+    else if (std::isinf(v)) v = v > 0 ? std::numeric_limits<float>::max() : -std::numeric_limits<float>::max();
+  return out;
+}
+
+bool all_finite(const Image& img) {
+  return std::all_of(img.pixels.begin(), img.pixels.end(), [](float v) { return std::isfinite(v); });
+}
+
 std::vector<unsigned char> srgb_bytes(const Image& img) {
   static const SrgbCodes srgb_code;
   std::vector<unsigned char> bytes(img.pixels.size());
   const int alpha = img.channels == 4 || img.channels == 2 ? img.channels - 1 : -1;
   for (std::size_t i = 0; i < img.pixels.size(); ++i) {
     const float v = img.pixels[i];
+    if (std::isnan(v)) {  // no colour: black, and transparent
+      bytes[i] = 0;
+      continue;
+    }
     bytes[i] = int(i % img.channels) != alpha ? srgb_code(v)
                                                : static_cast<unsigned char>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
   }
@@ -97,6 +131,8 @@ void encode_image(const fs::path& file, const fs::path& path, const Image& img, 
       img.pixels.size() != std::size_t(img.width) * img.height * img.channels)
     throw Error(Location{path.string()}, "refusing to write an empty or inconsistent image");
   const std::string ext = lower_ext(path);
+  // No written image holds a non-finite value (a float file would keep it).
+  if ((ext == ".exr" || ext == ".hdr") && !all_finite(img)) return encode_image(file, path, finite_copy(img), quality);
   if (ext == ".exr") return codec::write_exr(file, path, img);
   if (ext == ".png") return codec::write_png(file, path, img.width, img.height, img.channels, srgb_bytes(img));
   if (ext == ".jpg" || ext == ".jpeg")
@@ -211,6 +247,16 @@ Image read_image(const fs::path& path, bool linearize, double max_megapixels, Im
                                                               : codec::read_with_module(path, check, header);
   const bool is_float = header.is_float;
   if (source != nullptr) *source = {header.bits, header.is_float, header.alpha};
+  if (is_float) {
+    // No NaN or infinity goes on to a render or a comparison.
+    const std::size_t replaced = make_finite(img);
+    if (source != nullptr) source->replaced = replaced;
+    if (replaced > 0)
+      std::cerr << "plumage: warning: " << printable(path.string()) << ": " << replaced << " of "
+                << img.pixels.size()
+                << " samples were NaN or infinite; read as 0 (NaN) and as the image's largest (+Inf) or "
+                   "smallest (-Inf) finite value\n";
+  }
   if (linearize && !is_float) {
     // An 8-bit file holds at most 256 values: each is decoded once and remembered
     // by its exact float (the same result as srgb_to_linear on every sample,

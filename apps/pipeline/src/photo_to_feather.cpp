@@ -125,10 +125,12 @@ void photo_to_feather(const PhotoToFeatherSettings& o, const StageReport& report
       for (const auto& w : warnings) warn("feather " + std::to_string(f.id) + ": " + w);
 
     PhotoComparison comparison;
+    ImageSource photo_source;  // how many of the photo's samples were not finite
     stages.run("compare", written, [&] {
       ViewSpec view = sampling;
       view.base_dir = out;
-      comparison = compare_with_photo(read_image(o.photo), analysis.layout, f, feather, o.rig, view, o.size);
+      comparison = compare_with_photo(read_image(o.photo, true, kMaxImageMegapixels, &photo_source), analysis.layout,
+                                      f, feather, o.rig, view, o.size);
       FileBatch outputs;
       write_image(outputs, comparison_path, comparison_image(comparison));
       if (o.fidelity_image) write_image(outputs, fidelity_path, fidelity_image(comparison));
@@ -154,6 +156,7 @@ void photo_to_feather(const PhotoToFeatherSettings& o, const StageReport& report
     stages.run("summary", written, [&] {
       nlohmann::json j;
       j["photo"] = o.photo.string();
+      j["photo_samples_replaced"] = photo_source.replaced;  // NaN or infinite samples of a float photo
       j["feathers_found"] = analysis.layout.feathers.size();
       j["feather"] = f.id;
       j["scale"] = {{"mm_per_px", analysis.layout.scale.mm_per_px},

@@ -74,12 +74,18 @@ inline constexpr int kMaxImageChannels = 16;
 // first bytes. 8/16-bit integer files are taken to be sRGB and
 // converted to linear unless `linearize` is false; float files are returned as is.
 // Only regular files are read (check_input_file); images above `max_megapixels`,
-// kMaxImageSide or kMaxImageChannels are refused unread. Throws plumage::Error naming the file and the problem.
+// kMaxImageSide or kMaxImageChannels are refused unread. A float file's samples are
+// made finite (ImageSource::replaced). Throws plumage::Error naming
+// the file and the problem.
 // What a file held besides its pixels, for a reader that needs to know.
 struct ImageSource {
   int bits = 8;           // bits per sample as stored (8, 16, 32)
   bool is_float = false;  // float or half samples, returned as stored
   int alpha = -1;         // the alpha channel's index, or -1
+  // Samples of a float file that were NaN or infinite, read as 0 (NaN) or the
+  // image's largest (+Inf) or smallest (-Inf) finite sample; read_image also says
+  // so in one warning line on stderr.
+  std::size_t replaced = 0;
 };
 Image read_image(const std::filesystem::path& path, bool linearize = true,
                  double max_megapixels = kMaxImageMegapixels, ImageSource* source = nullptr);
