@@ -83,7 +83,7 @@ TEST_F(GenerateCli, PrintParamsFromALayout) {
   f.id = 1;
   f.bbox_px = {300, 100, 200, 600};
   f.outline_px = {{300, 100}, {500, 100}, {500, 700}, {300, 700}};
-  f.albedo = {"layout.feather1.albedo.png", 20, 60, {-10, 70}, 1.0};  // not read with --print-params alone
+  f.albedo = {"layout.feather1.albedo.png", 20, 60, {-10, 70}, 1.0, 1.0, {}};  // not read with --print-params alone
   f.shaft_mm = BSpline2({{0, -20}, {0, 0}, {0, 20}, {0, 40}, {0, 60}, {0, 80}});
   f.length_mm = 60;
   f.shaft_width_mm = 0.6;

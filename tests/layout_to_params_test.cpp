@@ -456,7 +456,7 @@ TEST(LayoutToParams, AlbedoTextureIsReferencedFromTheCurveFilesFolder) {
   std::filesystem::create_directories(dir / "curves");
   { std::ofstream(dir / "analysis" / "a.png") << "x"; }
   FeatherLayout f = known_layout();
-  f.albedo = {"a.png", 40, 100, {-20.0, 130.0}, 0.5};
+  f.albedo = {"a.png", 40, 100, {-20.0, 130.0}, 0.5, 1.0, {}};
   const Feather feather = layout_to_feather(f, 1, dir / "analysis", dir / "curves", "l.json");
   EXPECT_EQ(feather.albedo.texture, "../analysis/a.png");
   EXPECT_NEAR(feather.albedo.rect_min.x, -20.0, 1e-5);

@@ -285,8 +285,9 @@ TEST(RenderMaterial, CardResponseModelsAClosedVane) {
         EXPECT_GT(palest.medulla_sigma_s, 0.0f) << to_string(mode) << ", card " << c;
         EXPECT_GE(palest.medulla_sigma_s, paler.medulla_sigma_s) << to_string(mode) << ", card " << c;
       }
-      if (r.seen(CardResponse::kRows - 1, CardResponse::kNodes - 1, c) > 1.15f * white)
+      if (r.seen(CardResponse::kRows - 1, CardResponse::kNodes - 1, c) > 1.15f * white) {
         EXPECT_GT(paler.medulla_sigma_s, 0.0f) << to_string(mode) << ", card " << c;
+      }
       EXPECT_TRUE(palest.clamped);
       EXPECT_FALSE(correct(glm::vec3(white * 0.9f)).clamped);
       for (int i = 1; i < CardResponse::kNodes; ++i) {
