@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <random>
 #include <string>
@@ -347,4 +349,48 @@ TEST_F(ImageFiles, NoWriterPutsANonFiniteValueInAFile) {
       }
     }
   }
+}
+
+// Bounded work on hostile sizes (issue 37 item 7). A small JPEG whose header
+// claims 11000 x 11000 pixels is refused from its header, before 121 megapixels
+// are allocated (27 s and 1.8 GB of grey fill before); a JPEG whose scan ends
+// early (cut and closed with an end-of-image marker, so its end looks whole) is
+// refused at its first corrupt-data warning instead of coming back half grey.
+namespace {
+std::string file_bytes(const fs::path& f) {
+  std::ifstream in(f, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+void expect_jpeg_error(const fs::path& f, const std::string& what) {
+  try {
+    (void)read_image(f);
+    ADD_FAILURE() << "decoded " << what;
+  } catch (const Error& e) {
+    EXPECT_EQ(e.where().file, f.string());
+    EXPECT_NE(std::string(e.what()).find("JPEG"), std::string::npos) << e.what();
+  }
+}
+}  // namespace
+
+TEST_F(ImageFiles, AJpegClaimingMorePixelsThanItsBytesHoldIsRefusedUndecoded) {
+  const fs::path f = dir_ / "claims.jpg";
+  write_image(f, random_image(64, 64, 3, 0.0f, 1.0f, 9));
+  std::string bytes = file_bytes(f);
+  const std::size_t sof = bytes.find("\xff\xc0");  // baseline start of frame: length, precision, height, width
+  ASSERT_NE(sof, std::string::npos);
+  for (const std::size_t at : {sof + 5, sof + 7}) bytes[at] = char(11000 >> 8), bytes[at + 1] = char(11000 & 0xff);
+  std::ofstream(f, std::ios::binary | std::ios::trunc) << bytes;
+  expect_jpeg_error(f, "a 64x64 JPEG that claims 11000x11000");
+}
+
+TEST_F(ImageFiles, AJpegWhoseScanEndsEarlyIsRefusedAtItsFirstCorruptData) {
+  const fs::path f = dir_ / "short_scan.jpg";
+  write_image(f, random_image(256, 256, 3, 0.0f, 1.0f, 10));
+  std::string bytes = file_bytes(f);
+  const std::size_t sos = bytes.rfind("\xff\xda");
+  ASSERT_NE(sos, std::string::npos);
+  bytes.resize(sos + (bytes.size() - sos) / 2);
+  bytes += "\xff\xd9";
+  std::ofstream(f, std::ios::binary | std::ios::trunc) << bytes;
+  expect_jpeg_error(f, "a JPEG whose scan stops halfway");
 }

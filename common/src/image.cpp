@@ -163,9 +163,11 @@ std::int32_t le32(const std::string& b, std::size_t at) {
 }
 
 // OpenEXR's first header: attributes (name, type, int32 size, value) up to an
-// empty name. Every value must lie inside the file, and the data window
-// (box2i xMin, yMin, xMax, yMax) must be a sane rectangle.
-std::string exr_header_damage(const std::string& b) {
+// empty name. Every value must lie inside the file (`file_size` bytes, of which
+// `b` holds the first ones), and the data window (box2i xMin, yMin, xMax, yMax)
+// must be a sane rectangle. A header that runs past `b` is left to OpenEXR.
+std::string exr_header_damage(const std::string& b, std::uintmax_t file_size) {
+  const bool whole = b.size() == file_size;
   std::size_t at = 8;  // magic and version
   for (int attributes = 0; attributes < 10000; ++attributes) {
     const std::size_t name_end = b.find('\0', at);
@@ -177,9 +179,10 @@ std::string exr_header_damage(const std::string& b) {
     const std::string type = b.substr(name_end + 1, type_end - name_end - 1);
     const std::int32_t size = le32(b, type_end + 1);
     const std::size_t value = type_end + 5;
-    if (size < 0 || value + std::size_t(size) > b.size())
+    if (size < 0 || value + std::uintmax_t(size) > file_size)
       return "the OpenEXR header is damaged (attribute '" + name + "' claims " + std::to_string(size) +
              " bytes past the end of the file)";
+    if (value + std::size_t(size) > b.size()) return {};
     if (name == "dataWindow" && type == "box2i" && size == 16) {
       const std::int64_t w = std::int64_t(le32(b, value + 8)) - le32(b, value) + 1;
       const std::int64_t h = std::int64_t(le32(b, value + 12)) - le32(b, value + 4) + 1;
@@ -188,34 +191,63 @@ std::string exr_header_damage(const std::string& b) {
     }
     at = value + std::size_t(size);
   }
-  return "the OpenEXR header is cut short";
+  return whole ? "the OpenEXR header is cut short" : std::string();
+}
+
+// `n` bytes of the file from `offset` (fewer at its end).
+std::string bytes_at(const fs::path& path, std::uintmax_t offset, std::size_t n) {
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(std::streamoff(offset));
+  std::string b(n, '\0');
+  in.read(b.data(), std::streamsize(n));
+  b.resize(std::size_t(std::max<std::streamsize>(in.gcount(), 0)));
+  return b;
 }
 }  // namespace
 
 std::string damage_of(const fs::path& path) {
-  const std::string bytes = read_file(path);
-  const auto starts = [&](std::string_view magic) { return bytes.compare(0, magic.size(), magic) == 0; };
+  // Only the bytes that decide are read: the first ones say the format, the last
+  // ones whether the file was cut short (a 200 MB file of noise named .jpg is
+  // judged by its first four bytes).
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) return {};
+  constexpr std::size_t kTail = 64 * 1024, kExrHeader = 16 * 1024 * 1024;
+  const std::string head = bytes_at(path, 0, 8);
+  const auto starts = [&](std::string_view magic) { return head.compare(0, magic.size(), magic) == 0; };
+  const std::uintmax_t tail_from = size > kTail ? size - kTail : 0;
   if (starts("\x89PNG\r\n\x1a\n")) {
     // The IEND chunk closes every PNG; a few bytes may trail it.
-    const std::size_t tail = bytes.size() > 4096 ? bytes.size() - 4096 : 0;
-    if (bytes.find("IEND", tail) == std::string::npos) return "the PNG file is cut short (no IEND chunk at its end)";
+    const std::string tail = bytes_at(path, size > 4096 ? size - 4096 : 0, 4096);
+    if (tail.find("IEND") == std::string::npos) return "the PNG file is cut short (no IEND chunk at its end)";
   } else if (starts("\xff\xd8\xff")) {
     // Entropy-coded data never holds an unstuffed 0xFF 0xD9, so after the last
-    // start-of-scan marker the only one is the end-of-image marker.
-    const std::size_t sos = bytes.rfind("\xff\xda");
-    if (sos == std::string::npos || bytes.find("\xff\xd9", sos) == std::string::npos)
+    // start-of-scan marker the only one is the end-of-image marker; a file cut
+    // short ends in scan data (an embedded thumbnail's markers lie at its start).
+    const std::string tail = bytes_at(path, tail_from, kTail);
+    const std::size_t sos = tail.rfind("\xff\xda");
+    if ((sos == std::string::npos && tail_from == 0) ||  // the whole file, and no scan in it
+        tail.find("\xff\xd9", sos == std::string::npos ? 0 : sos) == std::string::npos)
       return "the JPEG file is cut short (no end-of-image marker after its last scan)";
   } else if (starts("\x76\x2f\x31\x01")) {
-    return exr_header_damage(bytes);
+    return exr_header_damage(bytes_at(path, 0, std::size_t(std::min<std::uintmax_t>(size, kExrHeader))), size);
   }
   return {};
 }
 
 Image read_image(const fs::path& path, bool linearize, double max_megapixels, ImageSource* source) {
-  if (check_input_file(path, "an image") == 0) throw Error(Location{path.string()}, "empty file, not an image");
+  const std::uintmax_t file_bytes = check_input_file(path, "an image");
+  if (file_bytes == 0) throw Error(Location{path.string()}, "empty file, not an image");
   if (const std::string damage = damage_of(path); !damage.empty())
     throw Error(Location{path.string()}, damage + "; copy or export the image again");
   const Location where{path.string()};
+  // The format is told by the file's first bytes, not its name.
+  char magic[4] = {};
+  {
+    std::ifstream in(path, std::ios::binary);
+    in.read(magic, sizeof magic);
+  }
+  const bool png = std::memcmp(magic, "\x89PNG", 4) == 0, jpeg = std::memcmp(magic, "\xff\xd8\xff", 3) == 0;
   const auto check = [&](const codec::Header& h) {
     if (h.width <= 0 || h.height <= 0 || h.channels <= 0) throw Error(where, "image has no pixels");
     const double megapixels = double(h.width) * double(h.height) / 1e6;
@@ -233,18 +265,23 @@ Image read_image(const fs::path& path, bool linearize, double max_megapixels, Im
     if (h.channels > kMaxImageChannels)
       throw Error(where, "image has " + std::to_string(h.channels) + " channels, above the limit of " +
                              std::to_string(kMaxImageChannels) + "; keep RGB or RGBA");
+    // A file holds no more pixels than its coding packs into its bytes: JPEG needs
+    // about 0.12 bit a pixel even for a flat picture (a DC difference and an
+    // end-of-block code per 8x8 block), and PNG's deflate packs at most 1032:1.
+    // A header claiming ten times that is a lie, refused before anything is
+    // allocated or decoded (a 22 KB JPEG claiming 11000x11000 cost 1.8 GB).
+    const double pixels = double(h.width) * double(h.height);
+    const double least = jpeg ? pixels * 0.012 / 8 : png ? pixels * h.channels / 10320.0 : 0.0;
+    if (double(file_bytes) < least)
+      throw Error(where, std::string("its header claims ") + std::to_string(h.width) + "x" + std::to_string(h.height) +
+                             " pixels, more than its " + std::to_string(file_bytes) + " bytes can hold (" +
+                             (jpeg ? "JPEG" : "PNG") + "); the file is damaged: copy or export the image again");
   };
-  // The format is told by the file's first bytes, not its name.
-  char magic[4] = {};
-  {
-    std::ifstream in(path, std::ios::binary);
-    in.read(magic, sizeof magic);
-  }
   codec::Header header;
-  Image img = std::memcmp(magic, "\x89PNG", 4) == 0              ? codec::read_png(path, check, header)
+  Image img = png                                              ? codec::read_png(path, check, header)
               : std::memcmp(magic, "\x76\x2f\x31\x01", 4) == 0 ? codec::read_exr(path, check, header)
-              : std::memcmp(magic, "\xff\xd8\xff", 3) == 0     ? codec::read_jpeg(path, check, header)
-                                                              : codec::read_with_module(path, check, header);
+              : jpeg                                           ? codec::read_jpeg(path, check, header)
+                                                               : codec::read_with_module(path, check, header);
   const bool is_float = header.is_float;
   if (source != nullptr) *source = {header.bits, header.is_float, header.alpha};
   if (is_float) {
