@@ -49,8 +49,19 @@ struct Stopped {
   std::string err;       // what it printed on stderr
 };
 
+// Whether process `pid` has a handler for `sig` (Linux: /proc/PID/status's SigCgt
+// mask), i.e. is past its start-up.
+bool catches(pid_t pid, int sig) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (sig - 1)) & 1;
+  return false;
+}
+
 // Runs `plumage ARGS` and sends each of `signals` `after` seconds from the start
-// (one after the other, 50 ms apart), then waits for it.
+// (one after the other, 50 ms apart), then waits for it. With `after` > 0 the
+// seconds count from when it has installed its handlers (a sanitizer build takes
+// half a second to reach main); at 0 the signal meets its start-up.
 Stopped run_and_signal(const std::vector<std::string>& args, const std::vector<int>& signals, double after,
                        const fs::path& err_file) {
   std::vector<std::string> all{PLUMAGE_CLI};
@@ -71,6 +82,9 @@ Stopped run_and_signal(const std::vector<std::string>& args, const std::vector<i
     return r;
   }
   posix_spawn_file_actions_destroy(&actions);
+  if (after > 0 && !signals.empty())
+    for (int k = 0; k < 2000 && !catches(pid, signals.front()); ++k)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
   std::this_thread::sleep_for(std::chrono::duration<double>(after));
   for (const int sig : signals) {
     ::kill(pid, sig);

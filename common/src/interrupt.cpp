@@ -23,8 +23,12 @@ std::array<Slot, kSlots> g_slots;
 std::atomic<int> g_signal{0};
 static_assert(std::atomic<int>::is_always_lock_free, "the handler reads atomics");
 
-// Only async-signal-safe calls from here (unlink, rmdir, _exit).
+// Only async-signal-safe calls from here (write, unlink, rmdir, _exit).
 [[noreturn]] void last_resort(int sig) {
+  const char* line = sig == SIGINT    ? "plumage: interrupted by SIGINT: stopped at once, its temporary files removed\n"
+                     : sig == SIGTERM ? "plumage: interrupted by SIGTERM: stopped at once, its temporary files removed\n"
+                                      : "plumage: interrupted by a signal: stopped at once, its temporary files removed\n";
+  [[maybe_unused]] const ssize_t written = ::write(2, line, std::strlen(line));
   for (Slot& s : g_slots)
     if (s.state.load() == kFile) ::unlink(s.path);
   for (auto it = g_slots.rbegin(); it != g_slots.rend(); ++it)  // deepest (latest) folder first
