@@ -3,6 +3,10 @@
 // valid text for what it was given, and a file name with a newline or a byte
 // that is not UTF-8 keeps an error message one line of valid text.
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -21,6 +25,8 @@ using namespace plumage;
 using plumage::test::plumage_cli;
 using plumage::test::plumage_cli_streams;
 namespace fs = std::filesystem;
+
+extern char** environ;
 
 namespace {
 
@@ -163,5 +169,34 @@ TEST(TextInTextOut, AnOutputNamingAPhotoWhosePathIsNotUtf8IsValidJson) {
   const std::string text = slurp(dir / "l.json");
   EXPECT_EQ(invalid_utf8_at(text), npos);
   EXPECT_NO_THROW((void)nlohmann::json::parse(text));
+  fs::remove_all(dir);
+}
+
+// Bounded work on hostile sizes (issue 37 item 7): a .fcurves is judged by its
+// first 4 KiB before it is read whole, so a 900 MB sparse file of zeros is
+// refused at its first byte with a few megabytes of memory (its peak resident
+// size, from wait4), not after taking 900 MB in.
+TEST(TextInTextOut, A900MegabyteFileOfZerosIsRefusedBeforeItIsRead) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer's shadow memory makes the resident size meaningless";
+#endif
+  const fs::path dir = text_dir("sparse");
+  const fs::path f = dir / "zeros.fcurves", err = dir / "err.txt";
+  fs::resize_file((std::ofstream(f), f), 900ull << 20);  // sparse: no disk taken
+  std::string cli = PLUMAGE_CLI, cmd = "info", file = f.string();
+  char* argv[] = {cli.data(), cmd.data(), file.data(), nullptr};
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = 0;
+  ASSERT_EQ(posix_spawn(&pid, PLUMAGE_CLI, &actions, nullptr, argv, environ), 0);
+  posix_spawn_file_actions_destroy(&actions);
+  int status = 0;
+  struct rusage usage {};
+  ASSERT_EQ(::wait4(pid, &status, 0, &usage), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  EXPECT_NE(slurp(err).find(f.string() + ":1:1: byte 0x00 is not UTF-8 text"), std::string::npos) << slurp(err);
+  EXPECT_LT(usage.ru_maxrss, 200L * 1024) << "peak resident KiB";  // ru_maxrss is in KiB on Linux
   fs::remove_all(dir);
 }

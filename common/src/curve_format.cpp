@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
+#include <fstream>
 #include <cmath>
 #include <limits>
 #include <system_error>
@@ -32,6 +33,8 @@ StatCounter bytes_written("Curve files/Bytes formatted");
 
 // ---------------------------------------------------------------- writing ---
 
+constexpr std::size_t kJudgedFirst = 4096;  // bytes of a file judged before it is read whole
+
 constexpr double kNormalTolerance = 1e-3;  // accepted deviation of |n| from 1
 
 using detail::append_float;
@@ -51,6 +54,24 @@ void append_quoted(std::string& out, const std::string& s) {
     out += c;
   }
   out += '"';
+}
+
+// Strings read from a .fcurves reach JSON, XML, Python and pbrt writers: its text
+// is UTF-8, without NUL bytes (a binary or sparse file). Throws at the first byte
+// that is not, with its line and column; `complete` false: `text` is the file's
+// beginning, and a sequence cut at its end is not judged.
+void check_text(std::string_view text, const std::string& file, bool complete) {
+  std::size_t bad = std::min(invalid_utf8_at(text), text.find('\0'));
+  if (bad == std::string_view::npos || (!complete && text[bad] != '\0' && text.size() - bad < 4 &&
+                                         static_cast<unsigned char>(text[bad]) >= 0xC2))
+    return;
+  const std::string_view before = text.substr(0, bad);
+  const std::size_t line_start = before.rfind('\n');
+  const int line = 1 + int(std::count(before.begin(), before.end(), '\n'));
+  const int column = 1 + int(line_start == std::string_view::npos ? bad : bad - line_start - 1);
+  char hex[8];
+  std::snprintf(hex, sizeof hex, "0x%02X", static_cast<unsigned char>(text[bad]));
+  throw Error(Location{file, line, column}, std::string("byte ") + hex + " is not UTF-8 text: save the file as UTF-8");
 }
 
 }  // namespace
@@ -292,17 +313,7 @@ void Reader::expect_count(std::size_t n, const std::string& form) const {
 void Reader::parse_header_line() {
   if (text_.starts_with("\xEF\xBB\xBF"))
     throw Error(Location{file_, 1, 1}, "the file starts with a UTF-8 byte-order mark: save it without one");
-  // Strings read here reach JSON, XML, Python and pbrt writers: UTF-8 only.
-  if (const std::size_t bad = invalid_utf8_at(text_); bad != std::string_view::npos) {
-    const std::string_view before = text_.substr(0, bad);
-    const std::size_t line_start = before.rfind('\n');
-    const int line = 1 + int(std::count(before.begin(), before.end(), '\n'));
-    const int column = 1 + int(line_start == std::string_view::npos ? bad : bad - line_start - 1);
-    char hex[8];
-    std::snprintf(hex, sizeof hex, "0x%02X", static_cast<unsigned char>(text_[bad]));
-    throw Error(Location{file_, line, column},
-                std::string("byte ") + hex + " is not UTF-8 text: save the file as UTF-8");
-  }
+  check_text(text_, file_, true);
   if (!next_line()) line_no_ = 1;  // an empty file: point at its first line
   if (line_no_ != 1 || tok_.empty() || tok_[0].text != "fcurves")
     fail(1, "missing header: the first line must be 'fcurves " + std::to_string(kFcurvesVersion) +
@@ -736,6 +747,15 @@ Feather parse_fcurves(std::string_view text, const std::string& filename) {
 }
 
 Feather read_fcurves(const std::filesystem::path& path) {
+  // Its first 4 KiB are judged before the rest is read: a 900 MB file of zeros
+  // named .fcurves is refused at once, not after reading it whole.
+  if (check_input_file(path, "a curve file") > kJudgedFirst) {
+    std::ifstream in(path, std::ios::binary);
+    std::string head(kJudgedFirst, '\0');
+    in.read(head.data(), std::streamsize(head.size()));
+    head.resize(std::size_t(std::max<std::streamsize>(in.gcount(), 0)));
+    check_text(head, path.string(), false);
+  }
   return parse_fcurves(read_file(path), path.string());
 }
 
