@@ -10,6 +10,7 @@
 #include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
+#include "plumage/common/text.h"
 #include "plumage/generator/analysis/layout.h"
 #include "plumage/generator/builder.h"
 #include "plumage/generator/layout_to_params.h"
@@ -40,7 +41,7 @@ int run_generate_from_layout(const GenerateArgs& a) {
   const Layout layout = read_layout(a.layout);
   const FeatherLayout& f = pick_feather(layout, a.feather, a.layout);
   if (a.print_params) {  // what the layout gives the generator, repairs included
-    std::cout << params_to_json(layout_to_params(f, a.layout).params).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
+    std::cout << json_text(params_to_json(layout_to_params(f, a.layout).params), 2) << "\n";
     if (a.output.empty()) return 0;
   }
   check_output(a);
@@ -76,7 +77,7 @@ int run_generate(const GenerateArgs& a) {
 
   const FeatherParams params = a.preset.empty() ? read_params(a.params) : load_preset(a.preset);
   if (a.print_params) {
-    std::cout << params_to_json(params).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
+    std::cout << json_text(params_to_json(params), 2) << "\n";
     if (a.output.empty()) return 0;
   }
   check_output(a);

@@ -11,6 +11,7 @@
 #include "plumage/common/bspline.h"
 #include "plumage/common/curve_format.h"
 #include "plumage/common/number_text.h"
+#include "plumage/common/text.h"
 
 namespace plumage::cli {
 namespace {
@@ -111,7 +112,7 @@ void print_json(std::ostream& out, const std::string& file, const Feather& f, co
   j["medulla"] = {{"ratio", decimal(f.medulla.ratio)},
                   {"sigma_s", rgb(f.medulla.sigma_s)},
                   {"sigma_a", rgb(f.medulla.sigma_a)}};
-  out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
+  out << json_text(j, 2) << "\n";
 }
 
 void print_text(std::ostream& out, const std::string& file, const Feather& f, const Summary& s) {

@@ -2,6 +2,8 @@
 // Runs the built `plumage` binary (PLUMAGE_CLI) with arguments (a shell command
 // line: redirections and quotes work) and captures its exit code and output.
 // Shared by the CLI tests.
+#include <fcntl.h>
+#include <spawn.h>
 #include <unistd.h>
 #include <sys/wait.h>
 
@@ -11,6 +13,9 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
+
+extern char** environ;
 
 namespace plumage::test {
 
@@ -61,6 +66,34 @@ inline CliStreams plumage_cli_streams(const std::string& args) {
   std::error_code ec;
   std::filesystem::remove(err_file, ec);
   return r;
+}
+
+// A fresh, empty folder for one test of this process (ctest -j runs tests side by side).
+inline std::filesystem::path fresh_test_dir(const std::string& name) {
+  const std::filesystem::path d =
+      std::filesystem::temp_directory_path() / ("plumage_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  return d;
+}
+
+// Starts `plumage ARGS` as a child of its own (no shell between, so a signal or
+// wait4 reaches plumage itself), stdout to /dev/null and stderr to `err_file`.
+// Returns its pid, or -1 when it could not be started.
+inline pid_t spawn_plumage(const std::vector<std::string>& args, const std::filesystem::path& err_file) {
+  std::vector<std::string> all{PLUMAGE_CLI};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 2, err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, PLUMAGE_CLI, &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  return rc == 0 ? pid : -1;
 }
 
 }  // namespace plumage::test

@@ -5,8 +5,6 @@
 // write of its output.
 #include <gtest/gtest.h>
 #include <signal.h>
-#include <fcntl.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -24,18 +22,11 @@
 
 namespace fs = std::filesystem;
 using plumage::kInterruptGraceSeconds;
+using plumage::test::fresh_test_dir;
 using plumage::test::plumage_cli;
-
-extern char** environ;
+using plumage::test::spawn_plumage;
 
 namespace {
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("plumage_signal_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
 
 std::set<std::string> names_in(const fs::path& dir) {
   std::set<std::string> names;
@@ -64,24 +55,13 @@ bool catches(pid_t pid, int sig) {
 // half a second to reach main); at 0 the signal meets its start-up.
 Stopped run_and_signal(const std::vector<std::string>& args, const std::vector<int>& signals, double after,
                        const fs::path& err_file) {
-  std::vector<std::string> all{PLUMAGE_CLI};
-  all.insert(all.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& a : all) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 2, err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   const auto t0 = std::chrono::steady_clock::now();
-  pid_t pid = 0;
   Stopped r;
-  if (posix_spawn(&pid, PLUMAGE_CLI, &actions, nullptr, argv.data(), environ) != 0) {
-    posix_spawn_file_actions_destroy(&actions);
+  const pid_t pid = spawn_plumage(args, err_file);
+  if (pid < 0) {
     r.status = -1;
     return r;
   }
-  posix_spawn_file_actions_destroy(&actions);
   if (after > 0 && !signals.empty())
     for (int k = 0; k < 2000 && !catches(pid, signals.front()); ++k)
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -115,7 +95,7 @@ void expect_stopped_by(const Stopped& r, int sig, bool at_start_up = false) {
 }  // namespace
 
 TEST(Signals, ARenderStoppedAnywhereLeavesNoTemporaryAndNoPartialImage) {
-  const fs::path dir = fresh_dir("render");
+  const fs::path dir = fresh_test_dir("signal_render");
   const fs::path curves = dir / "f.fcurves";
   ASSERT_EQ(plumage_cli("-q generate --preset osprey-wing-covert -o '" + curves.string() + "'").rc, 0);
   const std::vector<std::string> args{"-q", "render", curves.string(), "--spp", "16", "--resolution", "240x360",
@@ -159,7 +139,7 @@ TEST(Signals, ARenderStoppedAnywhereLeavesNoTemporaryAndNoPartialImage) {
 }
 
 TEST(Signals, ASecondSignalStopsAtOnceAndLeavesNoTemporary) {
-  const fs::path dir = fresh_dir("twice");
+  const fs::path dir = fresh_test_dir("signal_twice");
   const fs::path curves = dir / "f.fcurves";
   ASSERT_EQ(plumage_cli("-q generate --preset osprey-wing-covert -o '" + curves.string() + "'").rc, 0);
   const std::set<std::string> before = names_in(dir);
@@ -176,7 +156,7 @@ TEST(Signals, ASecondSignalStopsAtOnceAndLeavesNoTemporary) {
 TEST(Signals, PhotoToFeatherStoppedRemovesTheFolderItCreated) {
   const fs::path photo = fs::path(PLUMAGE_SHARED_DIR) / "photos" / "pink-contour-feather.jpg";
   if (!fs::exists(photo)) GTEST_SKIP() << "shared photos absent";
-  const fs::path dir = fresh_dir("p2f");
+  const fs::path dir = fresh_test_dir("signal_p2f");
   const fs::path err = fs::temp_directory_path() / ("plumage_signal_err3_" + std::to_string(::getpid()) + ".txt");
   for (const double after : {0.3, 2.0, 5.0}) {
     SCOPED_TRACE("SIGTERM after " + std::to_string(after) + " s");

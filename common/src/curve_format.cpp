@@ -58,13 +58,10 @@ void append_quoted(std::string& out, const std::string& s) {
 
 // Strings read from a .fcurves reach JSON, XML, Python and pbrt writers: its text
 // is UTF-8, without NUL bytes (a binary or sparse file). Throws at the first byte
-// that is not, with its line and column; `complete` false: `text` is the file's
-// beginning, and a sequence cut at its end is not judged.
-void check_text(std::string_view text, const std::string& file, bool complete) {
-  std::size_t bad = std::min(invalid_utf8_at(text), text.find('\0'));
-  if (bad == std::string_view::npos || (!complete && text[bad] != '\0' && text.size() - bad < 4 &&
-                                         static_cast<unsigned char>(text[bad]) >= 0xC2))
-    return;
+// that is not, with its line and column.
+void check_text(std::string_view text, const std::string& file) {
+  const std::size_t bad = std::min(invalid_utf8_at(text), text.find('\0'));
+  if (bad == std::string_view::npos) return;
   const std::string_view before = text.substr(0, bad);
   const std::size_t line_start = before.rfind('\n');
   const int line = 1 + int(std::count(before.begin(), before.end(), '\n'));
@@ -313,7 +310,7 @@ void Reader::expect_count(std::size_t n, const std::string& form) const {
 void Reader::parse_header_line() {
   if (text_.starts_with("\xEF\xBB\xBF"))
     throw Error(Location{file_, 1, 1}, "the file starts with a UTF-8 byte-order mark: save it without one");
-  check_text(text_, file_, true);
+  check_text(text_, file_);
   if (!next_line()) line_no_ = 1;  // an empty file: point at its first line
   if (line_no_ != 1 || tok_.empty() || tok_[0].text != "fcurves")
     fail(1, "missing header: the first line must be 'fcurves " + std::to_string(kFcurvesVersion) +
@@ -754,7 +751,8 @@ Feather read_fcurves(const std::filesystem::path& path) {
     std::string head(kJudgedFirst, '\0');
     in.read(head.data(), std::streamsize(head.size()));
     head.resize(std::size_t(std::max<std::streamsize>(in.gcount(), 0)));
-    check_text(head, path.string(), false);
+    // Not its last 3 bytes: a UTF-8 sequence may be cut there.
+    check_text(std::string_view(head).substr(0, head.size() > 3 ? head.size() - 3 : 0), path.string());
   }
   return parse_fcurves(read_file(path), path.string());
 }

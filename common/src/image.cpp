@@ -242,12 +242,9 @@ Image read_image(const fs::path& path, bool linearize, double max_megapixels, Im
     throw Error(Location{path.string()}, damage + "; copy or export the image again");
   const Location where{path.string()};
   // The format is told by the file's first bytes, not its name.
-  char magic[4] = {};
-  {
-    std::ifstream in(path, std::ios::binary);
-    in.read(magic, sizeof magic);
-  }
-  const bool png = std::memcmp(magic, "\x89PNG", 4) == 0, jpeg = std::memcmp(magic, "\xff\xd8\xff", 3) == 0;
+  const std::string magic = bytes_at(path, 0, 4);
+  const auto starts = [&](std::string_view m) { return magic.compare(0, m.size(), m) == 0; };
+  const bool png = starts("\x89PNG"), jpeg = starts("\xff\xd8\xff"), exr = starts("\x76\x2f\x31\x01");
   const auto check = [&](const codec::Header& h) {
     if (h.width <= 0 || h.height <= 0 || h.channels <= 0) throw Error(where, "image has no pixels");
     const double megapixels = double(h.width) * double(h.height) / 1e6;
@@ -279,7 +276,7 @@ Image read_image(const fs::path& path, bool linearize, double max_megapixels, Im
   };
   codec::Header header;
   Image img = png                                              ? codec::read_png(path, check, header)
-              : std::memcmp(magic, "\x76\x2f\x31\x01", 4) == 0 ? codec::read_exr(path, check, header)
+              : exr                                            ? codec::read_exr(path, check, header)
               : jpeg                                           ? codec::read_jpeg(path, check, header)
                                                                : codec::read_with_module(path, check, header);
   const bool is_float = header.is_float;

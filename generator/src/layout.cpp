@@ -9,6 +9,7 @@
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
+#include "plumage/common/text.h"
 
 namespace plumage {
 namespace {
@@ -44,7 +45,7 @@ void dump(const ojson& j, int indent, std::string& out) {
     out += "{\n";
     std::size_t i = 0;
     for (auto it = j.begin(); it != j.end(); ++it, ++i) {
-      out += pad + ojson(it.key()).dump(-1, ' ', false, ojson::error_handler_t::replace) + ": ";
+      out += pad + json_text(ojson(it.key())) + ": ";
       dump(it.value(), indent + 2, out);
       out += i + 1 < j.size() ? ",\n" : "\n";
     }
@@ -70,7 +71,7 @@ void dump(const ojson& j, int indent, std::string& out) {
     std::snprintf(buf, sizeof buf, "%.7g", j.get<double>());
     out += buf;
   } else {
-    out += j.dump(-1, ' ', false, ojson::error_handler_t::replace);
+    out += json_text(j);
   }
 }
 

@@ -11,6 +11,7 @@
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
 #include "plumage/common/interrupt.h"
+#include "plumage/common/text.h"
 #include "plumage/generator/layout_to_params.h"
 #include "plumage/pipeline/photo_comparison.h"
 
@@ -188,7 +189,7 @@ void photo_to_feather(const PhotoToFeatherSettings& o, const StageReport& report
       for (const auto& s : warnings) w.push_back("generate: " + s);
       j["warnings"] = w;
       written.push_back(summary_path);
-      write_file_atomic(summary_path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+      write_file_atomic(summary_path, json_text(j, 2) + "\n");
       return "-> summary.json";
     });
   } catch (...) {

@@ -450,6 +450,21 @@ int quills_at_calamus(const cv::Mat& M, const std::vector<int>& width, int r0, i
   return two ? 2 : 1;
 }
 
+// The first and last column of the mask in each row of the straightened frame
+// (-1, -1 for a row without any).
+struct RowExtent {
+  int lo = -1, hi = -1;
+};
+std::vector<RowExtent> row_extents(const cv::Mat& M) {
+  std::vector<RowExtent> extent(std::size_t(M.rows));
+  for (int y = 0; y < M.rows; ++y) {
+    const uchar* m = M.ptr<uchar>(y);
+    for (int x = 0; x < M.cols; ++x)
+      if (m[x]) extent[y].hi = x, extent[y].lo = extent[y].lo < 0 ? x : extent[y].lo;
+  }
+  return extent;
+}
+
 // How many tips stand out along the straightened mask's more lobed side. A
 // feather's outline rises from the base to its widest and falls to the tip on
 // each side, one broad lobe with perhaps a notch or two where the vane splits; a
@@ -464,15 +479,12 @@ int tips_along_a_side(const cv::Mat& M, int r0, int r1) {
   constexpr double kTipProminence = 0.25;
   const int n = r1 - r0 + 1;
   const double middle = 0.5 * M.cols;
+  const std::vector<RowExtent> extent = row_extents(M);
   std::vector<double> left(n, 0.0), right(n, 0.0);
   for (int y = r0; y <= r1; ++y) {
-    const uchar* m = M.ptr<uchar>(y);
-    int lo = -1, hi = -1;
-    for (int x = 0; x < M.cols; ++x)
-      if (m[x]) hi = x, lo = lo < 0 ? x : lo;
-    if (lo < 0) continue;
-    left[y - r0] = std::max(0.0, middle - lo);
-    right[y - r0] = std::max(0.0, hi - middle);
+    if (extent[y].lo < 0) continue;
+    left[y - r0] = std::max(0.0, middle - extent[y].lo);
+    right[y - r0] = std::max(0.0, extent[y].hi - middle);
   }
   const int half = std::max(3, n / 60);
   auto smooth = [&](const std::vector<double>& v) {
@@ -765,15 +777,9 @@ Shaft trace_along(const cv::Mat& bgr, const Component& f, const cv::Point2d& c, 
   if (strays) rows_path = best_path(score, M, width, r0, r1, lambda, centre, corridor);
   // The rachis seen and inferred, then traced again close to that curve so that
   // the path lies on the rachis wherever it shows, and fitted again.
-  std::vector<int> row_lo(H, 0), row_hi(H, 0);
-  for (int y = 0, last_lo = 0, last_hi = W - 1; y < H; ++y) {
-    const uchar* m = M.ptr<uchar>(y);
-    int a = -1, b = -1;
-    for (int x = 0; x < W; ++x)
-      if (m[x]) b = x, a = a < 0 ? x : a;
-    if (a >= 0) last_lo = a, last_hi = b;
-    row_lo[y] = last_lo, row_hi[y] = last_hi;
-  }
+  std::vector<RowExtent> extent = row_extents(M);  // an empty row takes the last one's above it
+  for (int y = 0; y < H; ++y)
+    if (extent[y].lo < 0) extent[y] = y > 0 ? extent[y - 1] : RowExtent{0, W - 1};
   auto rachis = [&](const std::vector<cv::Point2d>& p) {
     std::vector<double> rho(p.size());
     std::vector<int> lo(p.size()), hi(p.size());
@@ -782,7 +788,7 @@ Shaft trace_along(const cv::Mat& bgr, const Component& f, const cv::Point2d& c, 
       float r = 0;
       for (int dx = -1; dx <= 1; ++dx) r = std::max(r, ridge.at<float>(y, std::clamp(x + dx, 0, W - 1)));
       rho[i] = r / std::max(mean_ridge, 1e-6);
-      lo[i] = row_lo[y], hi[i] = row_hi[y];
+      lo[i] = extent[y].lo, hi[i] = extent[y].hi;
     }
     return fit_rachis(p, rho, lo, hi, calamus_at_bottom);
   };

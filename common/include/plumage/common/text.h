@@ -19,4 +19,12 @@ std::size_t invalid_utf8_at(std::string_view s);
 // everything else as it is, so that printable(printable(s)) == printable(s).
 std::string printable(std::string_view s);
 
+// A nlohmann::json (or ordered_json) value as JSON text that is valid UTF-8 whatever
+// its strings hold (a file name may hold any byte): a byte that is not UTF-8 is
+// written as U+FFFD instead of failing. `indent` as json::dump's (-1: one line).
+template <class Json>
+std::string json_text(const Json& j, int indent = -1) {
+  return j.dump(indent, ' ', false, Json::error_handler_t::replace);
+}
+
 }  // namespace plumage
