@@ -5,6 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config ninja-build
+  dpkg-dev file  # cpack -G DEB (scripts/install_check.sh): dpkg-shlibdeps and ELF detection
   libembree-dev libtbb-dev
   libosd-dev
   libopencv-dev

@@ -3,7 +3,6 @@
 // build tree it was built in (the fuzz targets live in a subfolder of theirs).
 #include <dlfcn.h>
 #include <link.h>
-#include <unistd.h>
 
 #include <climits>
 #include <mutex>
@@ -12,6 +11,7 @@
 #include "image_codecs.h"
 #include "image_module_abi.h"
 #include "plumage/common/error.h"
+#include "plumage/common/install.h"
 #include "plumage/common/stderr_capture.h"
 
 #ifndef PLUMAGE_IMAGE_MODULE_BUILD_DIR
@@ -29,11 +29,7 @@ fs::path own_folder() {
   if (dladdr1(reinterpret_cast<void*>(&own_folder), &info, reinterpret_cast<void**>(&map), RTLD_DL_LINKMAP) != 0 &&
       map != nullptr && map->l_name != nullptr && map->l_name[0] == '/')
     return fs::path(map->l_name).parent_path();
-  // The main program has no name in the link map: it is /proc/self/exe.
-  char exe[PATH_MAX];
-  const ssize_t n = ::readlink("/proc/self/exe", exe, sizeof exe - 1);
-  if (n <= 0) return {};
-  return fs::path(std::string(exe, std::size_t(n))).parent_path();
+  return executable_folder();  // the main program has no name in the link map
 }
 
 struct Loaded {
@@ -43,7 +39,10 @@ struct Loaded {
 
 Loaded load() {
   std::vector<fs::path> places;
-  if (const fs::path own = own_folder(); !own.empty()) places.push_back(own / kImageModuleFile);
+  if (const fs::path own = own_folder(); !own.empty()) {
+    places.push_back(own / kImageModuleFile);  // the build folder's executables
+    places.push_back(own.parent_path() / kInstallModuleFolder / kImageModuleFile);  // PREFIX/bin -> PREFIX/lib/plumage
+  }
   if (const fs::path built = PLUMAGE_IMAGE_MODULE_BUILD_DIR; !built.empty()) places.push_back(built / kImageModuleFile);
   std::string looked;
   for (const fs::path& p : places) {

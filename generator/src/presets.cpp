@@ -4,14 +4,12 @@
 #include <cstdlib>
 
 #include "plumage/common/error.h"
+#include "plumage/common/install.h"
 
 namespace plumage {
 namespace fs = std::filesystem;
 
-fs::path presets_dir() {
-  if (const char* env = std::getenv("PLUMAGE_DATA_DIR"); env && *env) return fs::path(env) / "presets";
-  return fs::path(PLUMAGE_DATA_DIR) / "presets";
-}
+fs::path presets_dir() { return data_dir() / "presets"; }
 
 std::vector<std::string> list_presets() {
   std::vector<std::string> names;

@@ -1,7 +1,8 @@
 #pragma once
 // Species presets: FeatherParams JSON files in data/presets/ (docs/presets.md
-// gives the sources of their numbers). The folder is $PLUMAGE_DATA_DIR/presets
-// when that variable is set, else the source tree's data/presets.
+// gives the sources of their numbers), in data_dir()/presets
+// (plumage/common/install.h: $PLUMAGE_DATA_DIR, the installed share/plumage, or
+// the source tree's data/).
 #include <filesystem>
 #include <string>
 #include <vector>
