@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -263,4 +264,51 @@ TEST_F(PhotoToFeather, GenerateFromTheLayoutItWrote) {
   EXPECT_EQ(bad.rc, 1);
   EXPECT_NE(bad.output.find("no such feather; the layout has 1"), std::string::npos) << bad.output;
   EXPECT_FALSE(fs::exists(dir_ / "g.fcurves"));
+}
+
+namespace {
+// Every regular file under `dir` (recursively) and its bytes; folders by name.
+std::map<std::string, std::string> contents(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    const std::string rel = fs::relative(e.path(), dir).string();
+    files[rel] = e.is_regular_file() ? read_file(e.path()) : std::string("<folder>");
+  }
+  return files;
+}
+}  // namespace
+
+// OUTDIR is all-or-nothing (docs/robustness.md): a run that fails after its
+// analyze and generate stages have written leaves a previous run's results as they
+// were, byte for byte, with no hidden folder left; a run that succeeds leaves
+// exactly its own artifacts (a previous run's fidelity.png goes).
+TEST_F(PhotoToFeather, AFailedRunLeavesAPreviousRunsResultsAsTheyWere) {
+  const std::string photo = synthetic_photo();
+  const std::string out = path("out");
+  const std::string run = "-q photo-to-feather " + photo + " -o " + out + " --mm-per-px 0.2 --spp 1 --size 48";
+  ASSERT_EQ(plumage_cli(run + " --seed 1 --fidelity-image").rc, 0);
+  // The next run fails at its compare stage: fidelity.png cannot be replaced.
+  fs::remove(dir_ / "out" / "fidelity.png");
+  fs::create_directory(dir_ / "out" / "fidelity.png");
+  write_file_atomic(dir_ / "out" / "mine.txt", "the user's own file");
+  const auto before = contents(dir_ / "out");
+  const CliResult r = plumage_cli(run + " --seed 2 --fidelity-image");
+  EXPECT_EQ(r.rc, 1) << r.output;
+  EXPECT_NE(r.output.find("stage 'compare' failed"), std::string::npos) << r.output;
+  const auto after = contents(dir_ / "out");
+  for (const auto& [name, bytes] : before)
+    EXPECT_TRUE(after.count(name) && after.at(name) == bytes) << name << " was changed or removed by a failed run";
+  for (const auto& [name, bytes] : after) EXPECT_TRUE(before.count(name)) << name << " was left by a failed run";
+
+  // A run that succeeds: its own artifacts, the user's file, and nothing stale.
+  fs::remove(dir_ / "out" / "fidelity.png");
+  write_file_atomic(dir_ / "out" / "fidelity.png", "a previous run's fidelity image");
+  write_file_atomic(dir_ / "out" / "layout.feather7.albedo.png", "a previous sheet's seventh feather");
+  ASSERT_EQ(plumage_cli(run + " --seed 2").rc, 0);
+  std::set<std::string> expected = kArtifacts;
+  expected.insert("mine.txt");
+  EXPECT_EQ(files_in(dir_ / "out"), expected);
+  const auto summary = nlohmann::json::parse(read_file(dir_ / "out" / "summary.json"));
+  std::set<std::string> listed(summary["files"].begin(), summary["files"].end());
+  EXPECT_EQ(listed, kArtifacts);
 }

@@ -1,9 +1,13 @@
 // The photo-to-feather chain (photo_to_feather.h): analyze -> generate -> compare
-// -> summary, each stage timed, and a failing stage's files removed again.
+// -> summary, each stage timed; a run that fails leaves OUTDIR as it was.
 #include "plumage/pipeline/photo_to_feather.h"
+
+#include <unistd.h>
 
 #include <chrono>
 #include <iomanip>
+#include <regex>
+#include <set>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -56,6 +60,72 @@ class Stages {
   std::vector<std::pair<std::string, double>> seconds_;
 };
 
+// Whether `name` is a file photo-to-feather writes into OUTDIR.
+bool is_artifact(const std::string& name) {
+  static const std::set<std::string> fixed_names = {"layout.json",   "overlay.png",    "feather.fcurves",
+                                                    "feather.albedo.png", "preview.png", "comparison.png",
+                                                    "fidelity.png",  "summary.json"};
+  static const std::regex albedo(R"(layout\.feather[0-9]+\.albedo\.png)");
+  return fixed_names.count(name) > 0 || std::regex_match(name, albedo);
+}
+
+// OUTDIR as a previous run left it, kept until this run ends, so that OUTDIR is
+// all-or-nothing: each artifact already there is kept under a hard link in a
+// hidden folder inside OUTDIR (a copy where the file system has no links), and
+// this run's files replace the artifacts by rename, never in place. A run that
+// fails puts every kept file back and removes the artifacts it wrote; a run that
+// succeeds removes the previous run's artifacts it did not write again (a
+// fidelity.png, or a sheet's layout.feather7.albedo.png), so that OUTDIR holds
+// one run's results, as summary.json lists them.
+class PreviousRun {
+ public:
+  explicit PreviousRun(const fs::path& out) : out_(out) {
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(out, ec)) {
+      const std::string name = e.path().filename().string();
+      if (!is_artifact(name) || !e.is_regular_file(ec)) continue;
+      if (keep_.empty()) {
+        keep_ = out / (".plumage-previous-" + std::to_string(::getpid()));
+        fs::create_directory(keep_);
+      }
+      fs::create_hard_link(e.path(), keep_ / name, ec);
+      if (ec) fs::copy_file(e.path(), keep_ / name, fs::copy_options::overwrite_existing);
+      kept_.insert(name);
+    }
+  }
+  PreviousRun(const PreviousRun&) = delete;
+  PreviousRun& operator=(const PreviousRun&) = delete;
+  ~PreviousRun() {
+    if (!keep_.empty()) {
+      std::error_code ec;
+      fs::remove_all(keep_, ec);
+    }
+  }
+
+  // The run failed: OUTDIR's artifacts as they were.
+  void restore() {
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(out_, ec)) {
+      const std::string name = e.path().filename().string();
+      if (is_artifact(name) && !kept_.count(name) && e.is_regular_file(ec)) fs::remove(e.path(), ec);  // this run's
+    }
+    for (const std::string& name : kept_) fs::rename(keep_ / name, out_ / name, ec);
+  }
+
+  // The run succeeded and wrote `written`: the previous run's other artifacts go.
+  void finish(const std::vector<fs::path>& written) {
+    std::set<std::string> names;
+    for (const auto& p : written) names.insert(p.filename().string());
+    std::error_code ec;
+    for (const std::string& name : kept_)
+      if (!names.count(name)) fs::remove(out_ / name, ec);
+  }
+
+ private:
+  fs::path out_, keep_;
+  std::set<std::string> kept_;
+};
+
 std::string fixed(double v, int digits) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(digits) << v;
@@ -74,6 +144,7 @@ void photo_to_feather(const PhotoToFeatherSettings& o, const StageReport& report
   // A folder this run made is removed when a signal stops it (interrupt.h); the
   // handler's last resort removes it only when empty.
   const RemovedOnSignal made_by_this_run = created ? RemovedOnSignal(out, true) : RemovedOnSignal();
+  PreviousRun previous(out);  // OUTDIR all-or-nothing
   Stages stages(report);
   std::vector<fs::path> files;  // finished stages' artifacts, for the summary
 
@@ -192,7 +263,10 @@ void photo_to_feather(const PhotoToFeatherSettings& o, const StageReport& report
       write_file_atomic(summary_path, json_text(j, 2) + "\n");
       return "-> summary.json";
     });
+    files.push_back(summary_path);
+    previous.finish(files);
   } catch (...) {
+    previous.restore();
     std::error_code ec;
     if (created && interrupt_signal()) fs::remove_all(out, ec);  // stopped by a signal: as if never run
     else if (created && fs::is_empty(out, ec)) fs::remove(out, ec);

@@ -3,9 +3,10 @@
 // analyze (layout.json, overlay.png, the albedo), generate (feather.fcurves,
 // feather.albedo.png, preview.png), compare (comparison.png and, when asked,
 // fidelity.png: the picked feather's crop | hair | substructure in one pose) and
-// summary.json (counts, settings, fidelity, stage times, files, warnings). A stage
-// that fails removes the files it had written, so OUTDIR holds only finished
-// stages (and a folder this call created is removed again when left empty).
+// summary.json (counts, settings, fidelity, stage times, files, warnings). OUTDIR
+// is all-or-nothing: a run that fails at any stage leaves every file in it as it
+// was (a previous run's results included), and a folder this call created is
+// removed again; a run that succeeds leaves exactly its own artifacts there.
 #include <filesystem>
 #include <functional>
 #include <string>
