@@ -405,7 +405,7 @@ TEST_F(FarfieldCache, DamagedOrStaleFileIsRefusedAndRefitted) {
     const std::string err = testing::internal::GetCapturedStderr();
     EXPECT_EQ(stat(kFits), fits0 + 1) << why;
     EXPECT_EQ(stat(kRefused), refused0 + 1) << why;
-    EXPECT_NE(err.find("refitting"), std::string::npos) << why << ": " << err;
+    EXPECT_NE(err.find("refitted and written over"), std::string::npos) << why << ": " << err;
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << why << ": one line: " << err;
     ASSERT_TRUE(m);
     EXPECT_EQ(m->F, good->F) << why << ": the refit is deterministic";
@@ -522,9 +522,27 @@ TEST(FarfieldCli, RenderFitsThenReadsThenRefitsDamagedFiles) {
   for (std::string line; std::getline(lines, line);)
     if (line.rfind("plumage: warning: far-field cache ", 0) == 0) {
       ++warnings;
-      EXPECT_NE(line.find("refitting"), std::string::npos) << line;
+      EXPECT_NE(line.find("refitted and written over"), std::string::npos) << line;
+      const std::string cache = (dir / "cache").string();
+      EXPECT_EQ(line.find(cache), line.rfind(cache)) << "the file is named twice: " << line;
     }
   EXPECT_EQ(warnings, fitted) << third.err;
+
+  // A cache folder that cannot be made: one warning line for the run, however many tables.
+  write_file_atomic(dir / "a-file", "x");
+  setenv("PLUMAGE_FARFIELD_CACHE", (dir / "a-file" / "cache").c_str(), 1);
+  const auto unwritable = test::plumage_cli_streams(cmd);
+  ASSERT_EQ(unwritable.rc, 0) << unwritable.err;
+  int folder_lines = 0;
+  std::istringstream unwritable_lines(unwritable.err);
+  for (std::string line; std::getline(unwritable_lines, line);)
+    if (line.find("far-field cache") != std::string::npos) {
+      ++folder_lines;
+      EXPECT_NE(line.find("cannot be written"), std::string::npos) << line;
+      EXPECT_NE(line.find("$PLUMAGE_FARFIELD_CACHE"), std::string::npos) << line;
+    }
+  EXPECT_EQ(folder_lines, 1) << unwritable.err;
+  setenv("PLUMAGE_FARFIELD_CACHE", (dir / "cache").c_str(), 1);
 
   const auto bad = test::plumage_cli_streams("render '" + (dir / "f.fcurves").string() +
                                              "' --shading farfield --barbule-elevation 0.2 -o '" +

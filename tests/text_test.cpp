@@ -39,7 +39,9 @@ std::string slurp(const fs::path& p) {
 // replaced by `source_line`.
 fs::path feather_with_source(const fs::path& dir, const std::string& source_line) {
   const fs::path base = dir / "base.fcurves";
-  if (!fs::exists(base)) EXPECT_EQ(plumage_cli("-q generate --preset osprey-wing-covert -o '" + base.string() + "'").rc, 0);
+  if (!fs::exists(base)) {
+    EXPECT_EQ(plumage_cli("-q generate --preset osprey-wing-covert -o '" + base.string() + "'").rc, 0);
+  }
   std::istringstream in(slurp(base));
   std::string out, line;
   for (int n = 1; std::getline(in, line); ++n) out += (n == 3 ? source_line : line) + "\n";
@@ -191,5 +193,47 @@ TEST(TextInTextOut, A900MegabyteFileOfZerosIsRefusedBeforeItIsRead) {
   const long peak = info(zeros, printed);
   EXPECT_NE(printed.find(zeros.string() + ":1:1: byte 0x00 is not UTF-8 text"), std::string::npos) << printed;
   EXPECT_LT(peak, baseline + 100L * 1024) << "peak resident KiB, against " << baseline << " for a one-line file";
+  fs::remove_all(dir);
+}
+
+// JSON inputs (layouts, parameter files, rigs) are judged by their first 4 KiB
+// like curve files: a large file of zeros, of binary, or of text that is not a
+// JSON object is refused at its first bad byte without being read whole; the
+// three readers share one JSON parser and report FILE:LINE:COL the same way.
+TEST(TextInTextOut, LargeJsonInputsAreJudgedByTheirStart) {
+  const fs::path dir = fresh_test_dir("text_json");
+  const fs::path zeros = dir / "zeros.json", binary = dir / "binary.json", words = dir / "words.json";
+  fs::resize_file((std::ofstream(zeros), zeros), 900ull << 20);  // sparse: no disk taken
+  write_file_atomic(binary, std::string(8000, '\xFF'));
+  write_file_atomic(words, "\n  " + std::string(8000, 'a'));
+  const struct {
+    fs::path file;
+    std::string expect;
+  } cases[] = {
+      {zeros, zeros.string() + ":1:1: byte 0x00 is not UTF-8 text"},
+      {binary, binary.string() + ":1:1: byte 0xFF is not UTF-8 text"},
+      {words, words.string() + ":2:3: invalid JSON: expected '{' to open the file's object, found 'a'"},
+  };
+  const std::string out = " -o '" + (dir / "x.fcurves").string() + "'";
+  const std::string render = "render '" + (dir / "missing.fcurves").string() + "' -o '" + (dir / "x.png").string() + "'";
+  for (const auto& c : cases)
+    for (const std::string& args : {"generate --params '" + c.file.string() + "'" + out,
+                                    "generate --layout '" + c.file.string() + "'" + out,
+                                    render + " --rig '" + c.file.string() + "'"}) {
+      const auto r = plumage_cli_streams(args);
+      EXPECT_EQ(r.rc, 1) << args;
+      EXPECT_NE(r.err.find(c.expect), std::string::npos) << args << "\n" << r.err;
+    }
+  // A small file is read whole and parsed: the same error form at its line and column.
+  write_file_atomic(dir / "bad.json", "{\n  \"leds\": [,]\n}\n");
+  for (const std::string& args : {"generate --params '" + (dir / "bad.json").string() + "'" + out,
+                                  "generate --layout '" + (dir / "bad.json").string() + "'" + out,
+                                  render + " --rig '" + (dir / "bad.json").string() + "'"}) {
+    const auto r = plumage_cli_streams(args);
+    EXPECT_EQ(r.rc, 1) << args;
+    EXPECT_NE(r.err.find("bad.json:2:12: invalid JSON: syntax error"), std::string::npos) << args << "\n" << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "x.fcurves"));
+  EXPECT_FALSE(fs::exists(dir / "x.png"));
   fs::remove_all(dir);
 }

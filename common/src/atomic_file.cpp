@@ -231,4 +231,14 @@ std::string read_file(const fs::path& path, FileRole role) {
   return std::move(ss).str();
 }
 
+std::string read_file_head(const fs::path& path, std::size_t bytes) {
+  errno = 0;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(Location{path.string()}, "cannot open: " + last_error());
+  std::string head(bytes, '\0');
+  in.read(head.data(), std::streamsize(head.size()));
+  head.resize(std::size_t(std::max<std::streamsize>(in.gcount(), 0)));
+  return head;
+}
+
 }  // namespace plumage

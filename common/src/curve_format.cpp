@@ -33,7 +33,6 @@ StatCounter bytes_written("Curve files/Bytes formatted");
 
 // ---------------------------------------------------------------- writing ---
 
-constexpr std::size_t kJudgedFirst = 4096;  // bytes of a file judged before it is read whole
 
 constexpr double kNormalTolerance = 1e-3;  // accepted deviation of |n| from 1
 
@@ -54,21 +53,6 @@ void append_quoted(std::string& out, const std::string& s) {
     out += c;
   }
   out += '"';
-}
-
-// Strings read from a .fcurves reach JSON, XML, Python and pbrt writers: its text
-// is UTF-8, without NUL bytes (a binary or sparse file). Throws at the first byte
-// that is not, with its line and column.
-void check_text(std::string_view text, const std::string& file) {
-  const std::size_t bad = std::min(invalid_utf8_at(text), text.find('\0'));
-  if (bad == std::string_view::npos) return;
-  const std::string_view before = text.substr(0, bad);
-  const std::size_t line_start = before.rfind('\n');
-  const int line = 1 + int(std::count(before.begin(), before.end(), '\n'));
-  const int column = 1 + int(line_start == std::string_view::npos ? bad : bad - line_start - 1);
-  char hex[8];
-  std::snprintf(hex, sizeof hex, "0x%02X", static_cast<unsigned char>(text[bad]));
-  throw Error(Location{file, line, column}, std::string("byte ") + hex + " is not UTF-8 text: save the file as UTF-8");
 }
 
 }  // namespace
@@ -745,15 +729,9 @@ Feather parse_fcurves(std::string_view text, const std::string& filename) {
 
 Feather read_fcurves(const std::filesystem::path& path) {
   // Its first 4 KiB are judged before the rest is read: a 900 MB file of zeros
-  // named .fcurves is refused at once, not after reading it whole.
-  if (check_input_file(path, "a curve file") > kJudgedFirst) {
-    std::ifstream in(path, std::ios::binary);
-    std::string head(kJudgedFirst, '\0');
-    in.read(head.data(), std::streamsize(head.size()));
-    head.resize(std::size_t(std::max<std::streamsize>(in.gcount(), 0)));
-    // Not its last 3 bytes: a UTF-8 sequence may be cut there.
-    check_text(std::string_view(head).substr(0, head.size() > 3 ? head.size() - 3 : 0), path.string());
-  }
+  // named .fcurves is refused at once, not after reading it whole. Strings read
+  // from a .fcurves reach JSON, XML, Python and pbrt writers: its text is UTF-8.
+  if (check_input_file(path, "a curve file") > kJudgedBytes) check_text_head(read_file_head(path), path.string());
   return parse_fcurves(read_file(path), path.string());
 }
 

@@ -160,7 +160,7 @@ void write_exr(const fs::path& file, const fs::path& target, const Image& img) {
     std::ofstream os(file, std::ios::binary | std::ios::trunc);
     if (!os) throw Error(Location{target.string()}, "cannot open for writing");
     {
-      Imf::StdOFStream stream(os, file.c_str());
+      Imf::StdOFStream stream(os, target.c_str());  // OpenEXR's messages name the file the user asked for
       Imf::OutputFile out(stream, header);
       out.setFrameBuffer(frame);
       out.writePixels(img.height);

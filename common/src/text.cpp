@@ -1,6 +1,7 @@
 // UTF-8 checks and escapes for text from files (text.h).
 #include "plumage/common/text.h"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace plumage {
@@ -61,6 +62,26 @@ std::string printable(std::string_view s) {
     i += n;
   }
   return out;
+}
+
+Location location_of_byte(std::string_view text, std::size_t byte, const std::string& file) {
+  const std::string_view before = text.substr(0, std::min(byte, text.size()));
+  const std::size_t line_start = before.rfind('\n');
+  const int line = 1 + int(std::count(before.begin(), before.end(), '\n'));
+  const int column = 1 + int(line_start == std::string_view::npos ? before.size() : before.size() - line_start - 1);
+  return {file, line, column};
+}
+
+void check_text(std::string_view text, const std::string& file) {
+  const std::size_t bad = std::min(invalid_utf8_at(text), text.find('\0'));
+  if (bad == std::string_view::npos) return;
+  char hex[8];
+  std::snprintf(hex, sizeof hex, "0x%02X", static_cast<unsigned char>(text[bad]));
+  throw Error(location_of_byte(text, bad, file), std::string("byte ") + hex + " is not UTF-8 text: save the file as UTF-8");
+}
+
+void check_text_head(std::string_view head, const std::string& file) {
+  check_text(head.substr(0, head.size() > 3 ? head.size() - 3 : 0), file);
 }
 
 }  // namespace plumage

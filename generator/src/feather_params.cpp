@@ -10,6 +10,7 @@
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
+#include "plumage/common/json_file.h"
 #include "plumage/common/number_text.h"
 
 namespace plumage {
@@ -376,29 +377,12 @@ json params_to_json(const FeatherParams& p) {
 }
 
 FeatherParams parse_params(const std::string& text, const std::string& source) {
-  json j;
-  try {
-    j = json::parse(text);
-  } catch (const json::parse_error& e) {
-    // nlohmann reports a byte offset; turn it into line:column.
-    int line = 1, col = 1;
-    const std::size_t end = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
-    for (std::size_t i = 0; i < end; ++i) {
-      if (text[i] == '\n') ++line, col = 1;
-      else ++col;
-    }
-    std::string what = e.what();
-    const auto pos = what.find("syntax error");
-    throw Error(Location{source, line, col},
-                "invalid JSON: " + (pos == std::string::npos ? what : what.substr(pos)));
-  } catch (const json::exception& e) {  // e.g. a number too large for a double
-    throw Error(Location{source}, std::string("invalid JSON: ") + e.what());
-  }
+  const json j = parse_json(text, source);
   return params_from_json(j, source);
 }
 
 FeatherParams read_params(const std::filesystem::path& path) {
-  return parse_params(read_file(path), path.string());
+  return parse_params(read_json_text(path), path.string());
 }
 
 }  // namespace plumage

@@ -9,6 +9,8 @@
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
+#include "plumage/common/json_file.h"
+#include "plumage/common/number_text.h"
 #include "plumage/common/text.h"
 
 namespace plumage {
@@ -99,21 +101,26 @@ struct Reader {
     if (it == obj.end()) fail(path, std::string("missing key \"") + key + "\"");
     return *it;
   }
+  // "[lo, hi]", ">= lo" or "<= hi", the ends as a person reads them.
+  static std::string allowed(double lo, double hi) {
+    std::string text = std::isinf(hi) ? ">= " : std::isinf(lo) ? "<= " : "[";
+    if (!std::isinf(lo)) text += num(lo);
+    if (!std::isinf(lo) && !std::isinf(hi)) text += ", ";
+    if (!std::isinf(hi)) text += num(hi);
+    if (!std::isinf(lo) && !std::isinf(hi)) text += "]";
+    return text;
+  }
   double number(const json& j, const std::string& path, double lo = -INFINITY,
                 double hi = INFINITY) const {
     if (!j.is_number()) fail(path, "expected a number");
     const double v = j.get<double>();
-    if (!std::isfinite(v) || v < lo || v > hi)
-      fail(path, "value " + std::to_string(v) + " out of range [" + std::to_string(lo) + ", " +
-                     std::to_string(hi) + "]");
+    if (!std::isfinite(v) || v < lo || v > hi) fail(path, "value " + num(v) + " is out of range; allowed " + allowed(lo, hi));
     return v;
   }
   int integer(const json& j, const std::string& path, int lo, int hi) const {
     if (!j.is_number_integer()) fail(path, "expected an integer");
     const auto v = j.get<long long>();
-    if (v < lo || v > hi)
-      fail(path, "value " + std::to_string(v) + " out of range [" + std::to_string(lo) + ", " +
-                     std::to_string(hi) + "]");
+    if (v < lo || v > hi) fail(path, "value " + std::to_string(v) + " is out of range; allowed integers " + allowed(lo, hi));
     return int(v);
   }
   std::string string(const json& j, const std::string& path) const {
@@ -252,20 +259,6 @@ struct Reader {
   }
 };
 
-// nlohmann reports a byte offset; turn it into line:column for the error.
-Location location_of_byte(const std::string& source, const std::string& text, std::size_t byte) {
-  Location loc{source, 1, 1};
-  for (std::size_t i = 0; i < std::min(byte > 0 ? byte - 1 : 0, text.size()); ++i) {
-    if (text[i] == '\n') {
-      ++loc.line;
-      loc.column = 1;
-    } else {
-      ++loc.column;
-    }
-  }
-  return loc;
-}
-
 }  // namespace
 
 const char* to_string(ScaleSource s) {
@@ -379,22 +372,7 @@ std::string layout_to_json(const Layout& L) {
 }
 
 Layout parse_layout(const std::string& text, const std::string& source) {
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::parse_error& e) {
-    std::string what = e.what();
-    if (auto k = what.find("parse error at"); k != std::string::npos) {
-      if (auto colon = what.find(": ", k); colon != std::string::npos)
-        what = what.substr(colon + 2);
-    }
-    throw Error(location_of_byte(source, text, e.byte), "invalid JSON: " + what);
-  } catch (const json::exception& e) {
-    // Not a syntax error but still unreadable, e.g. a number too large for a double.
-    std::string what = e.what();
-    if (auto k = what.find("] "); k != std::string::npos) what = what.substr(k + 2);
-    throw Error(Location{source}, "invalid JSON: " + what);
-  }
+  const json doc = parse_json(text, source);
   const Reader r{source};
   if (r.string(r.member(doc, "", "format"), "/format") != kFormat)
     r.fail("/format", std::string("expected \"") + kFormat + "\"");
@@ -449,7 +427,7 @@ Layout parse_layout(const std::string& text, const std::string& source) {
 }
 
 Layout read_layout(const std::filesystem::path& path) {
-  return parse_layout(read_file(path), path.string());
+  return parse_layout(read_json_text(path), path.string());
 }
 
 void write_layout(const std::filesystem::path& path, const Layout& layout) {

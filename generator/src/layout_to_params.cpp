@@ -653,7 +653,12 @@ Feather layout_to_feather(const FeatherLayout& f, std::uint64_t seed, const std:
   // The built shaft is an arc through the analysed calamus and tip; the analysed one
   // may bend both ways. Each vane was measured across the analysed shaft, so the
   // built feather is laid along it (shaft_pose.h), its calamus on the analysed one.
-  lay_along_shaft(feather, f.shaft_mm);
+  try {
+    lay_along_shaft(feather, f.shaft_mm);
+  } catch (const Error& e) {  // in the layout's terms: which feather, which field
+    throw Error(Location{source}, "feather " + std::to_string(f.id) + " shaft.control_points_mm: " + e.message() +
+                                      "; re-run `plumage analyze` or give the shaft's points");
+  }
 
   if (!f.albedo.file.empty()) {
     if (!(f.albedo.width_px > 0 && f.albedo.height_px > 0 && f.albedo.mm_per_texel > 0))

@@ -32,7 +32,7 @@ Polyline sample(Eval eval, const char* what) {
   for (std::size_t i = 0; i < L.p.size(); ++i)
     if (out.p.empty() || L.s[i] > out.s.back() + 1e-12) out.p.push_back(L.p[i]), out.s.push_back(L.s[i]);
   if (out.p.size() < 2 || !(out.length() > 0) || !std::isfinite(out.length()))
-    throw Error(std::string("lay_along_shaft: the ") + what + " has no length");
+    throw Error(std::string("the ") + what + " has no length");
   return out;
 }
 
@@ -99,8 +99,8 @@ std::size_t chord_at(const Polyline& L, double s) {
 
 void lay_along_shaft(Feather& feather, const BSpline2& shaft_mm) {
   const Curve* shaft = feather.shaft();
-  if (!shaft || shaft->points.size() < 4) throw Error("lay_along_shaft: the feather has no shaft curve");
-  if (!shaft_mm.valid()) throw Error("lay_along_shaft: the measured shaft needs at least 4 control points");
+  if (!shaft || shaft->points.size() < 4) throw Error("the feather has no shaft curve");
+  if (!shaft_mm.valid()) throw Error("the measured shaft needs at least 4 control points");
   BSpline3 built3;
   for (const ControlPoint& cp : shaft->points) built3.control_points().push_back(glm::dvec3(cp.p));
   const Polyline from = sample([&](double t) { return glm::dvec2(built3.eval(t)); }, "built shaft");

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "plumage/common/error.h"
+#include "plumage/common/number_text.h"
 
 namespace plumage {
 
@@ -32,16 +33,20 @@ Camera::Camera(const CameraSpec& spec, int width, int height, const Bounds3f& fb
   }
   // Name the real culprit before the view vectors turn into Inf or NaN below.
   const auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
-  const auto text = [](const glm::vec3& v) {
-    return std::to_string(v.x) + "," + std::to_string(v.y) + "," + std::to_string(v.z);
-  };
-  if (!finite(fb.lo) || !finite(fb.hi) || !std::isfinite(need_h) || glm::length(size) > 1e18f)
+  const auto text = [](const glm::vec3& v) { return num(v.x) + "," + num(v.y) + "," + num(v.z); };
+  // Beyond this a ray's origin holds no precision for the feather (and Embree's
+  // traversal asserts on coordinates near the float limit).
+  constexpr float kFarthest = 1e18f;
+  const auto near = [&](const glm::vec3& v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}) <= kFarthest; };
+  if (!finite(fb.lo) || !finite(fb.hi) || !std::isfinite(need_h) || glm::length(size) > kFarthest || !near(fb.lo) ||
+      !near(fb.hi))
     throw Error("the feather's bounding box (" + text(fb.lo) + " to " + text(fb.hi) +
                 " mm) is too large to frame; check the curve file's coordinates");
-  if (!finite(target) || !finite(eye_) || !finite(target - eye_) || !std::isfinite(glm::length(target - eye_)))
+  if (!finite(target) || !finite(eye_) || !finite(target - eye_) || !std::isfinite(glm::length(target - eye_)) ||
+      !near(target) || !near(eye_))
     throw Error(spec.position || spec.look_at
                     ? "--camera-pos/--look-at are too far out to render from; give points within 1e18 mm"
-                    : "--fov " + std::to_string(spec.fov_deg) + " is too narrow to frame the feather from a finite distance");
+                    : "--fov " + num(spec.fov_deg) + " is too narrow to frame the feather from within 1e18 mm");
   const glm::vec3 view = target - eye_;
   if (!(glm::length(view) > 0)) throw Error("--camera-pos and --look-at are the same point");
   fwd_ = glm::normalize(view);

@@ -63,7 +63,8 @@ ExportScene export_scene(const Feather& feather, const DomeRig& rig, const ViewS
                   double(hp.medulla_ratio), double(hp.medulla_sigma_s.x), double(hp.medulla_sigma_s.y),
                   double(hp.medulla_sigma_s.z), double(hp.medulla_sigma_a.x), double(hp.medulla_sigma_a.y),
                   double(hp.medulla_sigma_a.z));
-    s.material_note += (s.material_note.empty() ? "" : " ") + std::string(buf);
+    if (!s.material_note.empty()) s.material_note += ' ';
+    s.material_note += buf;
   }
   return s;
 }

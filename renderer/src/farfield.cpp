@@ -12,15 +12,24 @@
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <set>
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/constants.h"
 #include "plumage/common/error.h"
 #include "plumage/common/interrupt.h"
 #include "plumage/common/stats.h"
+#include "plumage/common/text.h"
 
 namespace plumage {
 namespace {
+// Prints "plumage: warning: LINE" unless this run printed that line already.
+void warn_once(const std::string& line) {
+  static std::mutex mutex;
+  static std::set<std::string> said;
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (said.insert(line).second) std::cerr << "plumage: warning: " << printable(line) << "\n";
+}
 
 constexpr char kMagic[] = "plumage-farfield\n";
 constexpr std::uint32_t kVersion = 2;
@@ -405,7 +414,8 @@ std::shared_ptr<const FarfieldModel> farfield_model(const FarfieldGeometry& g, c
       ++g_loaded;
     } catch (const Error& e) {
       ++g_refused;
-      std::cerr << "plumage: warning: far-field cache " << file.string() << ": " << e.what() << "; refitting\n";
+      std::cerr << "plumage: warning: far-field cache " << printable(file.string()) << ": " << e.message()
+                << "; refitted and written over\n";
     }
   }
   if (!model) {
@@ -419,7 +429,13 @@ std::shared_ptr<const FarfieldModel> farfield_model(const FarfieldGeometry& g, c
       } catch (const Interrupted&) {
         throw;  // a signal stops the run, not only the cache
       } catch (const std::exception& e) {
-        std::cerr << "plumage: warning: far-field cache " << file.string() << " not written: " << e.what() << "\n";
+        // One line for the folder, not one per table: each of a feather's
+        // materials would otherwise say the same.
+        const auto* fe = dynamic_cast<const std::filesystem::filesystem_error*>(&e);
+        const auto* pe = dynamic_cast<const Error*>(&e);
+        const std::string why = fe ? fe->code().message() : pe ? pe->message() : std::string(e.what());
+        warn_once("far-field cache folder " + cache_dir.string() + " cannot be written (" + why +
+                  "): the tables are fitted again on every run; set $PLUMAGE_FARFIELD_CACHE to a writable folder");
       }
     }
   }

@@ -84,4 +84,11 @@ inline constexpr std::uintmax_t kMaxTextFileBytes = std::uintmax_t(1) << 30;
 // plumage::Error naming the path if it cannot.
 std::string read_file(const std::filesystem::path& path, FileRole role = FileRole::Input);
 
+// How much of a text input is judged (its format, its encoding) before it is read whole.
+inline constexpr std::size_t kJudgedBytes = 4096;
+
+// The first `bytes` bytes of `path` (all of it when it is shorter): to judge a
+// large file by its start before reading it whole.
+std::string read_file_head(const std::filesystem::path& path, std::size_t bytes = kJudgedBytes);
+
 }  // namespace plumage

@@ -7,6 +7,8 @@
 #include <string>
 #include <string_view>
 
+#include "plumage/common/error.h"
+
 namespace plumage {
 
 // The offset of the first byte of `s` that does not begin or continue a
@@ -18,6 +20,19 @@ std::size_t invalid_utf8_at(std::string_view s);
 // or \xNN and each byte that is not part of well-formed UTF-8 as \xNN;
 // everything else as it is, so that printable(printable(s)) == printable(s).
 std::string printable(std::string_view s);
+
+// FILE:LINE:COL of byte `byte` of `text` (1-based line and column; a byte past
+// the end is placed at the end): where a parser's byte offset points.
+Location location_of_byte(std::string_view text, std::size_t byte, const std::string& file);
+
+// Text read from a file is UTF-8 without NUL bytes (a binary or sparse file is
+// not): throws Error at FILE:LINE:COL of the first byte that is not, "byte 0xFF is
+// not UTF-8 text: save the file as UTF-8".
+void check_text(std::string_view text, const std::string& file);
+
+// check_text for the first bytes of a longer file (read_file_head): a UTF-8
+// sequence cut at its end is not an error.
+void check_text_head(std::string_view head, const std::string& file);
 
 // A nlohmann::json (or ordered_json) value as JSON text that is valid UTF-8 whatever
 // its strings hold (a file name may hold any byte): a byte that is not UTF-8 is
