@@ -5,12 +5,14 @@
 #include <cstring>
 #include <iostream>
 #include <memory>
+#include <new>
 #include <unistd.h>
 
 #include "command.h"
 #include "option_checks.h"
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
+#include "plumage/common/install.h"
 #include "plumage/common/interrupt.h"
 #include "plumage/common/progress.h"
 #include "plumage/common/stats.h"
@@ -25,6 +27,7 @@ std::vector<CommandSpec>& commands() {
 
 namespace {
 GlobalOptions g_options;
+std::string g_command;  // the subcommand parsed, for the usage error's hint
 }
 const GlobalOptions& global_options() { return g_options; }
 
@@ -34,7 +37,7 @@ int parse_command_line(int argc, const char* const* argv, std::function<int()>& 
       "\"Microstructure-based appearance rendering for feathers\").\n"
       "Pipeline: analyze (photo -> layout.json) -> generate (-> feather.fcurves) -> render.\n"
       "Run `plumage COMMAND --help` for a command's options."};
-  app.set_version_flag("--version", std::string("plumage ") + PLUMAGE_VERSION);
+  app.set_version_flag("--version", version_text());
   app.require_subcommand(1);
   app.fallthrough();
   g_options = GlobalOptions{};
@@ -47,7 +50,10 @@ int parse_command_line(int argc, const char* const* argv, std::function<int()>& 
   for (auto& spec : specs) {
     CLI::App* sub = app.add_subcommand(spec.name, spec.description);
     auto fn = std::make_shared<std::function<int()>>(spec.setup(*sub));
-    sub->callback([fn, &run] { run = *fn; });
+    sub->callback([fn, &run, name = spec.name] {
+      run = *fn;
+      g_command = name;
+    });
   }
   check_option_types(app);
 
@@ -55,7 +61,9 @@ int parse_command_line(int argc, const char* const* argv, std::function<int()>& 
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-    std::cerr << "plumage: error: " << printable(e.what()) << " (see `plumage --help`)\n";
+    std::string help = "plumage --help";  // or the help of the subcommand that was parsed
+    for (const CLI::App* sub : app.get_subcommands()) help = "plumage " + sub->get_name() + " --help";
+    std::cerr << "plumage: error: " << printable(e.what()) << " (see `" << help << "`)\n";
     return 2;
   }
   return -1;
@@ -93,6 +101,13 @@ int run_command_line(int argc, const char* const* argv) {
     ::alarm(0);
     std::cerr << "plumage: " << e.what() << ": stopped, its temporary files removed\n";
     return e.exit_code();
+  } catch (const UsageError& e) {
+    std::cerr << "plumage: error: " << printable(e.what()) << " (see `plumage " << g_command << " --help`)\n";
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "plumage: error: out of memory: this run needs more than the machine can give; use a smaller "
+                 "--resolution, --spp or photo (docs/robustness.md)\n";
+    return 1;
   } catch (const std::exception& e) {  // plumage::Error and the rest: one line, valid text
     std::cerr << "plumage: error: " << printable(e.what()) << "\n";
     return 1;

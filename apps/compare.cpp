@@ -37,13 +37,12 @@ std::filesystem::path with_suffix(const std::filesystem::path& p, const std::str
 
 int run_compare(const Options& o) {
   const ViewSpec view = o.view.view_spec(o.input, !global_options().quiet);
-  const std::string ext = std::filesystem::path(o.output).extension().string();
-  if (ext != ".png" && ext != ".exr" && ext != ".jpg" && ext != ".tif")
-    throw Error("-o " + o.output + ": the extension picks the format; use .png (sRGB) or .exr (linear)");
+  if (const std::string bad = image_output_problem(o.output, {".png", ".exr", ".jpg", ".tif"}); !bad.empty())
+    throw UsageError(bad);
 
+  const DomeRig rig = o.view.read_rig();
   Feather feather = read_fcurves(o.input);
   o.substructure.apply(feather);
-  const DomeRig rig = read_dome_rig(o.view.rig);
   // Read the photo before the (long) renders so a bad path fails at once.
   Image photo;
   if (!o.photo.empty()) photo = read_image(o.photo);
@@ -88,8 +87,13 @@ const Registration kCompare{
       sub.add_option("--photo", o->photo, "Photograph of the feather, shown first (scaled to the panel height)");
       o->view.add_to(sub, "Size of one panel WIDTHxHEIGHT",
                      "Dome LEDs that are on (with --light-sequence: the LEDs to step through)");
-      sub.add_flag("--light-sequence", o->light_sequence, "One LED at a time: a labelled contact sheet per shading mode");
-      sub.add_option("--columns", o->columns, "Contact sheet tiles per row")->capture_default_str()->check(in_range(1, 1000));
+      CLI::Option* sequence =
+          sub.add_flag("--light-sequence", o->light_sequence, "One LED at a time: a labelled contact sheet per shading mode")
+              ->excludes("--photo");
+      sub.add_option("--columns", o->columns, "With --light-sequence: contact sheet tiles per row")
+          ->capture_default_str()
+          ->check(in_range(1, 1000))
+          ->needs(sequence);
       o->substructure.add_to(sub);
       return [o] { return run_compare(*o); };
     }};

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "command.h"
+#include "material_options.h"
 #include "substructure_options.h"
 #include "view_options.h"
 #include "plumage/common/curve_format.h"
@@ -31,26 +32,22 @@ struct ExportArgs {
   std::string input, output, format;
   std::string shading = "hair";
   ViewOptions view{"512x512", "WIDTHxHEIGHT, e.g. 640x480"};
-  HairParams hair;
-  std::string sigma_a, env;
+  MaterialOptions material;
+  std::string env;
   SubstructureOverrides substructure;
+  std::vector<std::string> scene_options_given;  // filled while parsing
   ExportArgs() { view.spp = 64; }
 };
 
 // The scene `plumage render` would render with the same options.
 ExportScene scene_for(const ExportArgs& a, const Feather& feather, const std::filesystem::path& out) {
   ViewSpec view = a.view.view_spec(a.input, false);
-  view.hair = a.hair;
-  if (!a.sigma_a.empty()) view.sigma_a = parse_vec3(a.sigma_a, "--sigma-a");
-  const DomeRig rig = read_dome_rig(a.view.rig);
+  a.material.apply(view);
+  const DomeRig rig = a.view.read_rig();
   SceneOptions so = a.view.scene_options(view, rig);
   so.mode = parse_shading_mode(a.shading);
   ExportScene scene = export_scene(feather, rig, view, so);
-  if (!a.env.empty()) {
-    const auto v = parse_numbers(a.env, "--env");
-    if (v.size() != 1 && v.size() != 3) throw Error("--env takes a grey value or R,G,B (a constant environment)");
-    scene.environment = v.size() == 1 ? glm::vec3(v[0]) : glm::vec3(v[0], v[1], v[2]);
-  }
+  if (!a.env.empty()) scene.environment = *parse_colour(a.env);  // environment(false) made sure it is one
   scene.image_filename = out.stem().string() + ".exr";
   return scene;
 }
@@ -85,27 +82,25 @@ const Registration kExport{
       sub.add_option("-o,--output", args->output, "The file to write")->required();
       sub.add_option("-f,--format", args->format, "fcurves, pbrt, pbrt-v3, mitsuba, obj or blender")
           ->check(CLI::IsMember({"fcurves", "pbrt", "pbrt-v3", "mitsuba", "obj", "blender"}));
-      sub.add_option("--shading", args->shading, "The plumage mode the scene reproduces: hair, or substructure/explicit/farfield (exported as hair)")
-          ->capture_default_str();
+      add_shading_option(sub, args->shading,
+                         "The plumage mode the scene reproduces: hair, or substructure/explicit/farfield (exported as hair)");
+      using Opt = ViewOptions::Opt;
       ViewOptions& v = args->view;
-      sub.add_option("--lights", v.lights, "Dome LEDs that are on: all, none, or numbers 1..25 (e.g. 1,5,12 or 2-9)")->capture_default_str();
-      sub.add_option("--rig", v.rig, "Light rig JSON file")->capture_default_str();
-      sub.add_option("--backdrop", v.backdrop, "Card under the feather: white (albedo 0.8), black (0.03) or none")->capture_default_str();
-      sub.add_option("--env", args->env, "A constant environment: a grey value or R,G,B");
-      sub.add_option("--resolution", v.resolution, "Image size WIDTHxHEIGHT")->capture_default_str();
-      sub.add_option("--spp", v.spp, "Samples per pixel")->capture_default_str();
-      sub.add_option("--max-depth", v.max_depth, "Maximum scattering events per path (1 = direct light only)")->capture_default_str();
-      sub.add_option("--camera-pos", v.camera_pos, "Camera position X,Y,Z in mm (default: auto-framed top view)");
-      sub.add_option("--look-at", v.look_at, "Point the camera looks at (default: the feather's centre)");
-      sub.add_option("--up", v.up, "Camera up vector")->capture_default_str();
-      sub.add_option("--fov", v.fov, "Vertical field of view in degrees")->capture_default_str();
-      sub.add_option("--margin", v.margin, "Auto-framing: fraction of the view left around the feather")->capture_default_str();
-      sub.add_option("--beta-m", args->hair.beta_m, "Hair longitudinal roughness (0,1]")->capture_default_str();
-      sub.add_option("--beta-n", args->hair.beta_n, "Hair azimuthal roughness (0,1]")->capture_default_str();
-      sub.add_option("--alpha", args->hair.alpha_deg, "Cuticle tilt in degrees (plumage's sign; written in the target's)")->capture_default_str();
-      sub.add_option("--eta", args->hair.eta, "Index of refraction of keratin")->capture_default_str();
-      sub.add_option("--sigma-a", args->sigma_a, "Absorption R,G,B given directly (per unit radius)");
+      for (Opt opt : {Opt::Lights, Opt::Rig, Opt::Backdrop, Opt::Resolution, Opt::Spp, Opt::MaxDepth, Opt::CameraPos,
+                      Opt::LookAt, Opt::Up, Opt::Fov, Opt::Margin})
+        v.add(sub, opt);
+      sub.add_option("--env", args->env, "A constant environment: a grey value or R,G,B")->check(environment(false));
+      args->material.add_to(sub, false);
       args->substructure.add_to(sub);
+      // Every option but the input, the output, the format and the substructure
+      // overrides (which change the curve file itself) sets the scene; noted while
+      // the options exist (the command runs after they are gone).
+      sub.parse_complete_callback([args, &sub] {
+        for (const CLI::Option* opt : sub.get_options())
+          if (opt->count() > 0 && !opt->check_name("FILE") && !opt->check_name("--output") &&
+              !opt->check_name("--format") && !args->substructure.owns(opt))
+            args->scene_options_given.push_back(opt->get_name());
+      });
       return [args]() -> int {
         const std::filesystem::path out(args->output);
         ExportFormat format;
@@ -114,13 +109,15 @@ const Registration kExport{
         } else if (auto f = format_from_extension(out)) {
           format = *f;
         } else {
-          std::cerr << "plumage: error: cannot tell the format from '" << out.string()
-                    << "': give --format fcurves|pbrt|pbrt-v3|mitsuba|obj|blender\n";
-          return 2;
+          throw UsageError("cannot tell the format from '" + out.string() +
+                           "': give --format fcurves|pbrt|pbrt-v3|mitsuba|obj|blender");
         }
+        const bool scene_format = format != ExportFormat::Fcurves && format != ExportFormat::Obj;
+        if (!scene_format && !args->scene_options_given.empty())
+          throw UsageError(args->scene_options_given.front() + " sets the scene, and " + to_string(format) +
+                           " holds only the curves: leave it out or export a scene format");
         Feather feather = read_fcurves(args->input);
         args->substructure.apply(feather);
-        const bool scene_format = format != ExportFormat::Fcurves && format != ExportFormat::Obj;
         const ExportScene scene = scene_format ? scene_for(*args, feather, out) : ExportScene{};
         export_feather(out, feather, format, scene);
         if (!global_options().quiet) {

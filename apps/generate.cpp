@@ -27,12 +27,21 @@ struct GenerateArgs {
   std::uint64_t seed = 1;
   int preview_size = 1024;
   bool list_presets = false, print_params = false;
+  bool more_than_list = false;  // options beside --list-presets
 };
 
-void check_output(const GenerateArgs& a) {
-  if (a.output.empty()) throw Error("no output file: give -o feather.fcurves");
-  if (std::filesystem::path(a.output).extension() != ".fcurves")
-    throw Error(Location{a.output}, "the output must be a .fcurves file; convert it afterwards with `plumage export`");
+// What the command line asks must be something generate can do, before any file is read.
+void check_usage(const GenerateArgs& a, bool anything_else) {
+  if (a.list_presets) {
+    if (anything_else) throw UsageError("--list-presets lists the presets and takes no other option");
+    return;
+  }
+  if (a.preset.empty() && a.params.empty() && a.layout.empty())
+    throw UsageError("give --preset NAME (--list-presets names them), --params FILE or --layout layout.json");
+  if (a.output.empty() && !a.print_params) throw UsageError("no output file: give -o feather.fcurves");
+  if (!a.output.empty() && std::filesystem::path(a.output).extension() != ".fcurves")
+    throw UsageError("-o " + a.output + ": the output must be a .fcurves file; convert it afterwards with `plumage export`");
+  if (a.output.empty() && !a.preview.empty()) throw UsageError("--preview draws the curves written to -o: give -o too");
 }
 
 // The feather a layout.json describes (docs/layout-format.md), its albedo texture
@@ -44,7 +53,6 @@ int run_generate_from_layout(const GenerateArgs& a) {
     std::cout << json_text(params_to_json(layout_to_params(f, a.layout).params), 2) << "\n";
     if (a.output.empty()) return 0;
   }
-  check_output(a);
   std::vector<std::string> warnings;
   FileBatch outputs;  // the curves, their albedo texture and the preview: all or none
   const Feather feather =
@@ -61,7 +69,7 @@ int run_generate_from_layout(const GenerateArgs& a) {
 }
 
 int run_generate(const GenerateArgs& a) {
-  if (a.list_presets) {
+  if (a.list_presets) {  // check_usage made sure it is alone
     for (const auto& name : list_presets()) {
       try {
         std::cout << name << "\n    " << load_preset(name).description << "\n";
@@ -72,15 +80,12 @@ int run_generate(const GenerateArgs& a) {
     return 0;
   }
   if (!a.layout.empty()) return run_generate_from_layout(a);
-  if (a.preset.empty() == a.params.empty())
-    throw Error("give exactly one of --preset NAME or --params FILE (see `plumage generate --list-presets`)");
 
   const FeatherParams params = a.preset.empty() ? read_params(a.params) : load_preset(a.preset);
   if (a.print_params) {
     std::cout << json_text(params_to_json(params), 2) << "\n";
     if (a.output.empty()) return 0;
   }
-  check_output(a);
 
   const std::string source = a.preset.empty() ? "params:" + a.params : "preset:" + a.preset;
   const Feather feather = build_feather(params, a.seed, source);
@@ -116,17 +121,26 @@ const Registration reg{
       auto* params = sub.add_option("--params", a->params, "Feather parameters JSON file (docs/generator.md)");
       auto* layout = sub.add_option("--layout", a->layout, "Analysis layout.json from `plumage analyze` (docs/layout-format.md)");
       sub.add_option("--feather", a->feather, "With --layout: which feather (its id, F<id> on the overlay; default the first)")
-          ->check(in_range(1, 1e6));
+          ->check(in_range(1, 1e6))
+          ->needs(layout);
       preset->excludes(params)->excludes(layout);
       params->excludes(layout);
       sub.add_option("--seed", a->seed, "Random seed: same seed, same feather (default 1)");
       sub.add_option("-o,--output", a->output, "Output .fcurves file (written atomically)");
       sub.add_option("--preview", a->preview, "Also write a top-view image of the curves (.png, .jpg, .exr)");
+      auto* preview = sub.get_option("--preview");
       sub.add_option("--preview-size", a->preview_size, "Preview size in pixels along the longer side (default 1024)")
-          ->check(in_range(16, 16384));
+          ->check(in_range(16, 16384))
+          ->needs(preview);
       sub.add_flag("--list-presets", a->list_presets, "List the species presets and exit");
       sub.add_flag("--print-params", a->print_params, "Print the resolved parameters as JSON");
-      return [a] { return run_generate(*a); };
+      // While the options exist (the command runs after they are gone): was
+      // anything but --list-presets given? (+1: count_all counts the subcommand.)
+      sub.parse_complete_callback([a, &sub] { a->more_than_list = sub.count_all() > sub.count("--list-presets") + 1; });
+      return [a] {
+        check_usage(*a, a->more_than_list);
+        return run_generate(*a);
+      };
     }};
 
 }  // namespace

@@ -5,9 +5,13 @@
 // check_option_types() gives every floating-point option the finiteness check
 // and every unsigned one the sign check, so a new option cannot forget them;
 // commands add ranges, choices and sizes where they declare their options.
+#include <cerrno>
 #include <cfloat>
+#include <climits>
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <initializer_list>
 #include <cstdlib>
 #include <sstream>
 #include <string>
@@ -15,6 +19,8 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+
+#include "plumage/renderer/dome_rig.h"
 
 namespace plumage::cli {
 
@@ -65,15 +71,58 @@ inline CLI::Validator in_range(double lo, double hi, bool lo_open = false) {
 // A finite number above zero (and at most `hi`).
 inline CLI::Validator positive(double hi = FLT_MAX) { return in_range(0.0, hi, true); }
 
-// A whole number of at least zero: "-1" would otherwise wrap to 2^64-1.
-inline CLI::Validator non_negative_integer() {
+// A whole number a 64-bit unsigned integer holds: "-1" would otherwise wrap to
+// 2^64-1, and 2^64 or more would saturate (--seed 18446744073709551616 rendering
+// another seed's image).
+inline CLI::Validator unsigned_integer() {
   return CLI::Validator(
       [](std::string& text) -> std::string {
         const auto first = text.find_first_not_of(" \t");
         if (first != std::string::npos && text[first] == '-') return "'" + text + "' is negative; give 0 or more";
+        if (first == std::string::npos || text.find_first_not_of("0123456789", first) != std::string::npos)
+          return "'" + text + "' is not a whole number";
+        errno = 0;
+        (void)std::strtoull(text.c_str(), nullptr, 10);
+        if (errno == ERANGE) return "'" + text + "' is above 18446744073709551615, the largest value";
         return {};
       },
-      "", "NONNEGATIVE");
+      "", "UINT64");
+}
+
+// A whole number an int holds (signed, 32-bit); CLI11 would refuse a larger one
+// with a conversion message that does not say why.
+inline CLI::Validator whole_number() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        const auto first = text.find_first_not_of(" \t");
+        const auto digits = first != std::string::npos && (text[first] == '-' || text[first] == '+') ? first + 1 : first;
+        if (digits == std::string::npos || digits >= text.size() ||
+            text.find_first_not_of("0123456789", digits) != std::string::npos)
+          return "'" + text + "' is not a whole number";
+        errno = 0;
+        const long long v = std::strtoll(text.c_str(), nullptr, 10);
+        if (errno == ERANGE || v > INT_MAX || v < INT_MIN) return "'" + text + "' is beyond the range of whole numbers this option takes";
+        return {};
+      },
+      "", "INT");
+}
+
+// Dome LEDs: all, none, or LED numbers and ranges (1,5,12 or 2-9); the grammar of
+// light_ranges (renderer/dome_rig.h). Whether each LED exists is known once the
+// rig is read.
+inline CLI::Validator light_list() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        try {
+          (void)light_ranges(text);
+        } catch (const std::exception& e) {
+          std::string why = e.what();
+          if (why.rfind("--lights: ", 0) == 0) why = why.substr(10);
+          return why;
+        }
+        return {};
+      },
+      "", "LEDS");
 }
 
 // A comma-separated list of finite numbers (each at least `min`) whose length is
@@ -111,6 +160,31 @@ inline CLI::Validator one_of(std::vector<std::string> names) {
         return "'" + text + "' is not one of: " + list;
       },
       "{" + list + "}", "CHOICE");
+}
+
+// A comma-separated list whose every item passes `item` ("hair,substructure").
+inline CLI::Validator comma_list(CLI::Validator item) {
+  return CLI::Validator(
+      [item](std::string& text) -> std::string {
+        if (text.empty() || text.back() == ',') return "'" + text + "' has an empty item";
+        std::stringstream items(text);
+        for (std::string one; std::getline(items, one, ',');)
+          if (std::string why = item(one); !why.empty()) return why;
+        return {};
+      },
+      "", "LIST");
+}
+
+// A comma-separated list of whole numbers in [lo, hi] ("1,2,4,8").
+inline CLI::Validator whole_number_list(int lo, int hi) {
+  const CLI::Validator range = in_range(lo, hi);
+  return comma_list(CLI::Validator(
+      [range](std::string& text) -> std::string {
+        if (text.empty() || text.size() > 10 || text.find_first_not_of("0123456789") != std::string::npos)
+          return "'" + text + "' is not a whole number";
+        return range(text);
+      },
+      "", "WHOLE"));
 }
 
 // One of a library enum's values, named by its to_string: the choices are listed
@@ -163,13 +237,28 @@ inline CLI::Validator resolution() {
       "WIDTHxHEIGHT", "RESOLUTION");
 }
 
-// Gives every floating-point option of `app` and its subcommands finite_number()
-// and every unsigned integer option non_negative_integer().
+// An output image named by -o: its extension picks the format, one of `exts`.
+// The message of a usage error, or "" when the name is fine.
+inline std::string image_output_problem(const std::string& output, std::initializer_list<const char*> exts) {
+  std::string list;
+  for (const char* e : exts) list += (list.empty() ? "" : ", ") + std::string(e);
+  if (output.empty()) return "-o is empty: give a file name such as out.png";
+  const std::string ext = std::filesystem::path(output).extension().string();
+  for (const char* e : exts)
+    if (ext == e) return {};
+  return "-o " + output + ": the extension picks the format; end the name with one of " + list +
+         " (.exr linear, .png sRGB)";
+}
+
+// Gives every floating-point option of `app` and its subcommands finite_number(),
+// every unsigned integer option unsigned_integer() and every signed one
+// whole_number() (every INT option of plumage is an int).
 inline void check_option_types(CLI::App& app) {
   for (CLI::Option* opt : app.get_options()) {
     const std::string type = opt->get_type_name();
     if (type == "FLOAT") opt->check(finite_number());
-    else if (type == "UINT") opt->check(non_negative_integer());
+    else if (type == "UINT") opt->check(unsigned_integer());
+    else if (type == "INT") opt->check(whole_number());
   }
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) check_option_types(*sub);
 }

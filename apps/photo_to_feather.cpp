@@ -43,13 +43,12 @@ int run_photo_to_feather(const Options& o) {
   PhotoToFeatherSettings s;
   s.photo = o.photo;
   s.outdir = o.outdir;
+  s.view = o.view.sampling_spec(false);
+  s.rig = o.view.read_rig();  // with --lights checked against it: a usage error comes first
   check_input_file(s.photo, "a photograph");
   s.analyze.mm_per_px = o.mm_per_px;
   s.analyze.grid_mm = o.grid_mm;
   s.analyze.feather = o.feather;
-  s.view = o.view.sampling_spec(false);
-  s.rig = read_dome_rig(o.view.rig);
-  parse_light_selection(s.view.lights, int(s.rig.leds.size()));
   s.size = o.size;
   s.fidelity_image = o.fidelity_image;
   const bool quiet = global_options().quiet;

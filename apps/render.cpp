@@ -1,19 +1,22 @@
 // `plumage render`: a feather curve file -> an image (EXR linear or PNG sRGB),
 // path traced with Embree under the paper's 25-LED dome, an environment and/or
 // directional lights (docs/rendering.md).
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
-#include <regex>
 #include <iostream>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "command.h"
+#include "material_options.h"
 #include "substructure_options.h"
 #include "view_options.h"
 #include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
+#include "plumage/common/number_text.h"
 #include "plumage/common/stats.h"
 #include "plumage/renderer/explicit_geometry.h"
 #include "plumage/renderer/feather_render.h"
@@ -21,17 +24,6 @@
 
 namespace plumage::cli {
 namespace {
-
-// "R,G,B" or one grey number: a constant colour; otherwise nullopt (a file name).
-std::optional<glm::vec3> parse_colour(const std::string& text) {
-  try {
-    const auto v = parse_numbers(text, "");
-    if (v.size() == 1) return glm::vec3(v[0]);
-    if (v.size() == 3) return glm::vec3(v[0], v[1], v[2]);
-  } catch (const Error&) {
-  }
-  return std::nullopt;
-}
 
 struct Options {
   std::string input, output;
@@ -41,8 +33,7 @@ struct Options {
   float env_scale = 1;
   std::vector<std::string> directional;
   std::string sampler = "sobol";
-  HairParams hair;
-  std::string melanin, sigma_a;
+  MaterialOptions material;
   std::string aov;
   SubstructureOverrides substructure;
 };
@@ -50,48 +41,46 @@ struct Options {
 // The render-only parts of the view: extra lights, the sampler and the material.
 void add_lights_and_material(const Options& o, ViewSpec& view) {
   if (!o.env.empty()) {
-    if (const auto c = parse_colour(o.env))
-      view.environment.emplace(*c * o.env_scale);
+    if (const auto c = parse_colour(o.env)) {
+      const glm::vec3 radiance = *c * o.env_scale;
+      if (!std::isfinite(radiance.x + radiance.y + radiance.z))
+        throw UsageError("--env " + o.env + " times --env-scale " + num(o.env_scale) +
+                         " is beyond the largest radiance a float holds (3.4e38); lower one of them");
+      view.environment.emplace(radiance);
+    }
     else
       view.environment.emplace(std::filesystem::path(o.env), o.env_scale);
   }
   for (const std::string& d : o.directional) {
     const auto v = parse_numbers(d, "--directional");
-    if (v.size() != 4 && v.size() != 6)
-      throw Error("--directional takes DX,DY,DZ,E or DX,DY,DZ,R,G,B (direction toward the light, irradiance)");
-    const glm::vec3 dir(v[0], v[1], v[2]);
-    if (!(glm::length(dir) > 0)) throw Error("--directional: the direction must not be zero");
+    const glm::vec3 given(v[0], v[1], v[2]);  // number_list({4, 6}) checked the count
+    const float largest = std::max({std::abs(given.x), std::abs(given.y), std::abs(given.z)});
+    if (!(largest > 0)) throw UsageError("--directional " + d + ": the direction must not be zero");
+    const glm::vec3 dir = given / largest;  // so that its length cannot overflow (1e30,1e30,1e30)
     view.directional.push_back({glm::normalize(dir), v.size() == 4 ? glm::vec3(v[3]) : glm::vec3(v[3], v[4], v[5])});
   }
   view.sampler = parse_sampler_kind(o.sampler);
-  view.hair = o.hair;
-  validate(view.hair, "--beta-m/--beta-n/--alpha/--eta");  // before the BVH build, not after
-  if (!o.sigma_a.empty()) {
-    view.sigma_a = parse_vec3(o.sigma_a, "--sigma-a");
-  } else if (!o.melanin.empty()) {
-    const auto m = parse_numbers(o.melanin, "--melanin");
-    if (m.empty() || m.size() > 2 || m[0] < 0 || (m.size() == 2 && m[1] < 0))
-      throw Error("--melanin takes EUMELANIN[,PHEOMELANIN], both >= 0");
-    view.sigma_a = sigma_a_from_melanin(m[0], m.size() == 2 ? m[1] : 0.0f);
-  }
+  o.material.apply(view);
 }
 
 int run_render(const Options& o) {
   using clock = std::chrono::steady_clock;
   const auto t0 = clock::now();
+  if (const std::string bad = image_output_problem(o.output, {".exr", ".png", ".hdr", ".tif", ".jpg"}); !bad.empty())
+    throw UsageError(bad);
+  const ShadingMode mode = parse_shading_mode(o.shading);
+  if (o.aov == "structure" && mode != ShadingMode::Substructure && mode != ShadingMode::Explicit)
+    throw UsageError("--aov structure shows rami and barbules: give --shading substructure or explicit");
   ViewSpec view = o.view.view_spec(o.input, !global_options().quiet);
-  const std::string ext = std::filesystem::path(o.output).extension().string();
-  if (ext != ".exr" && ext != ".png" && ext != ".hdr" && ext != ".tif" && ext != ".jpg")
-    throw Error("-o " + o.output + ": the extension picks the format; use .exr (linear) or .png (sRGB)");
+  add_lights_and_material(o, view);  // its usage errors before any file is read
+  const DomeRig rig = o.view.read_rig();
+  const auto t_setup = clock::now();
   Feather feather = read_fcurves(o.input);
   o.substructure.apply(feather);
   const auto t_read = clock::now();
-  add_lights_and_material(o, view);
-  const DomeRig rig = read_dome_rig(o.view.rig);
-  const auto t_setup = clock::now();
 
   SceneOptions so = o.view.scene_options(view, rig);
-  so.mode = parse_shading_mode(o.shading);
+  so.mode = mode;
   if (so.mode == ShadingMode::Explicit) check_explicit_fits(feather);
   const Scene scene(feather, so);
   const auto t_build = clock::now();
@@ -110,9 +99,9 @@ int run_render(const Options& o) {
   const auto t_write = clock::now();
 
   const auto secs = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
-  stats_set_value("Time/Read curves (s)", secs(t0, t_read));
-  stats_set_value("Time/Lights and setup (s)", secs(t_read, t_setup));
-  stats_set_value("Time/BVH build (s)", secs(t_setup, t_build));
+  stats_set_value("Time/Lights and setup (s)", secs(t0, t_setup));
+  stats_set_value("Time/Read curves (s)", secs(t_setup, t_read));
+  stats_set_value("Time/BVH build (s)", secs(t_read, t_build));
   stats_set_value("Time/Write image (s)", secs(t_render, t_write));
   if (!global_options().quiet)
     std::cerr << "wrote " << o.output << " (" << view.width << "x" << view.height << ", " << view.spp << " spp, "
@@ -130,23 +119,15 @@ const Registration kRender{
           "See docs/rendering.md.");
       sub.add_option("input", o->input, "Feather curve file (.fcurves)")->required();
       sub.add_option("-o,--output", o->output, "Output image: .exr (linear float) or .png (sRGB 8-bit)")->required();
-      sub.add_option("--shading", o->shading, "Barb shading: hair (fibres, production practice), substructure (Baron et al. 2021; docs/substructure.md) explicit (rami and barbules as real curves: the slow reference) or farfield (ribbons shaded by a table measured on the explicit geometry; fitted once, cached in $PLUMAGE_FARFIELD_CACHE)")
-          ->capture_default_str()
-          ->check(one_of(kShadingModes));
+      add_shading_option(sub, o->shading, "Barb shading: hair (fibres, production practice), substructure (Baron et al. 2021; docs/substructure.md) explicit (rami and barbules as real curves: the slow reference) or farfield (ribbons shaded by a table measured on the explicit geometry; fitted once, cached in $PLUMAGE_FARFIELD_CACHE)");
       sub.add_option("--aov", o->aov, "Write an AOV instead of the beauty image: 'structure' colours ramus, distal and proximal barbules and gaps (needs --shading substructure or explicit)")
           ->check(one_of({"structure"}));
       o->substructure.add_to(sub);
       o->view.add_to(sub, "Image size WIDTHxHEIGHT",
                      "Dome LEDs that are on: all, none, or numbers 1..25 (e.g. 1,5,12 or 2-9)");
-      sub.add_option("--env", o->env, "Environment: a grey value, R,G,B, or a lat-long .exr/.hdr image (+Z is up)")
-          ->check([](const std::string& v) -> std::string {
-            // Numbers that do not make a colour ("nan", "inf,1,1", "1,2") are a
-            // usage error, not a file that is missing.
-            static const std::regex numeric(R"(^[-+0-9.,eE ]*(nan|NaN|NAN|inf|Inf|INF|infinity)?[-+0-9.,eE ]*$)");
-            if (parse_colour(v) || std::filesystem::exists(v) || !std::regex_match(v, numeric)) return "";
-            return "'" + v + "' is neither a grey value nor R,G,B of finite numbers (nor an image file)";
-          });
-      sub.add_option("--env-scale", o->env_scale, "Multiplier on the environment radiance")->capture_default_str()->check(in_range(0, 1e6));
+      CLI::Option* env = sub.add_option("--env", o->env, "Environment: a grey value, R,G,B, or a lat-long .exr/.hdr image (+Z is up)")
+          ->check(environment(true));
+      sub.add_option("--env-scale", o->env_scale, "Multiplier on the environment radiance")->capture_default_str()->check(in_range(0, 1e6))->needs(env);
       sub.add_option("--directional", o->directional, "Directional light DX,DY,DZ,E or DX,DY,DZ,R,G,B (toward the light; irradiance); repeatable")
           ->allow_extra_args(false)
           ->check(number_list({4, 6}))
@@ -154,14 +135,7 @@ const Registration kRender{
       sub.add_option("--sampler", o->sampler, "sobol (Owen-scrambled, Burley 2020) or independent")
           ->capture_default_str()
           ->check(one_of(kSamplerKinds));
-      sub.add_option("--beta-m", o->hair.beta_m, "Hair longitudinal roughness (0,1]")->capture_default_str();
-      sub.add_option("--beta-n", o->hair.beta_n, "Hair azimuthal roughness (0,1]")->capture_default_str();
-      sub.add_option("--alpha", o->hair.alpha_deg, "Cuticle tilt in degrees")->capture_default_str();
-      sub.add_option("--eta", o->hair.eta, "Index of refraction of keratin")->capture_default_str();
-      sub.add_option("--melanin", o->melanin, "Absorption from EUMELANIN[,PHEOMELANIN] instead of the feather's albedo")
-          ->check(number_list({1, 2}, 0));
-      sub.add_option("--sigma-a", o->sigma_a, "Absorption R,G,B given directly (per unit radius)")
-          ->check(number_list({3}, 0));
+      o->material.add_to(sub, true);
       return [o] { return run_render(*o); };
     }};
 

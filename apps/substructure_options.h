@@ -2,7 +2,9 @@
 // Command-line overrides of the curve file's substructure parameters (DESIGN §5),
 // shared by `plumage render` and `plumage compare`. An override applies to both
 // vanes; parameters not given keep the curve file's per-vane values.
+#include <algorithm>
 #include <optional>
+#include <vector>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -16,7 +18,19 @@ struct SubstructureOverrides {
   std::optional<int> barbules;
   std::optional<float> elevation_deg, azimuth_deg, ramus_radius, barbule_radius, hooked_fraction, ribbon_width;
 
+  std::vector<std::string> names;  // of the options add_to added
+
+  // Whether `opt` is one of these overrides.
+  bool owns(const CLI::Option* opt) const { return std::find(names.begin(), names.end(), opt->get_name()) != names.end(); }
+
   void add_to(CLI::App& app) {
+    const std::size_t before = app.get_options().size();
+    add_options(app);
+    const auto all = app.get_options();
+    for (std::size_t i = before; i < all.size(); ++i) names.push_back(all[i]->get_name());
+  }
+
+  void add_options(CLI::App& app) {
     app.add_option("--barbules", barbules, "Substructure: barbules per side of each barb, N (both vanes)")
         ->check(library_range([](SubstructureParams& p, double v) { p.barbules_per_side = int(v); }));
     app.add_option("--barbule-elevation", elevation_deg, "Substructure: barbule angle from the barb in the vane, theta_b (degrees, 1..90)")

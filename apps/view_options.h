@@ -5,6 +5,8 @@
 // render_view() (renderer/feather_render.h) the same way.
 #include <cmath>
 #include <cstdint>
+#include <optional>
+#include <regex>
 #include <filesystem>
 #include <sstream>
 #include <string>
@@ -13,6 +15,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "command.h"
 #include "option_checks.h"
 #include "plumage/common/error.h"
 #include "plumage/renderer/feather_render.h"
@@ -46,6 +49,40 @@ inline glm::vec3 parse_vec3(const std::string& text, const std::string& flag) {
   return {v[0], v[1], v[2]};
 }
 
+// "R,G,B" or one grey number: a constant colour; otherwise nullopt (a file name).
+inline std::optional<glm::vec3> parse_colour(const std::string& text) {
+  try {
+    const auto v = parse_numbers(text, "");
+    if (v.size() == 1) return glm::vec3(v[0]);
+    if (v.size() == 3) return glm::vec3(v[0], v[1], v[2]);
+  } catch (const Error&) {
+  }
+  return std::nullopt;
+}
+
+// --env: a constant environment, a grey value or R,G,B, none of them negative;
+// with `files`, also the name of an existing lat-long image. Numbers that make no
+// colour ("nan", "inf,1,1", "1,2", "-1") are a usage error, not a missing file.
+inline CLI::Validator environment(bool files) {
+  return CLI::Validator(
+      [files](std::string& text) -> std::string {
+        if (const auto c = parse_colour(text)) {
+          if (c->x < 0 || c->y < 0 || c->z < 0) return "'" + text + "' is negative; an environment's radiance is 0 or more";
+          return {};
+        }
+        static const std::regex numeric(R"(^[-+0-9.,eE ]*(nan|NaN|NAN|inf|Inf|INF|infinity)?[-+0-9.,eE ]*$)");
+        if (files && (std::filesystem::exists(text) || !std::regex_match(text, numeric))) return {};
+        return "'" + text + "' is neither a grey value nor R,G,B of finite numbers" +
+               std::string(files ? " (nor an image file)" : "");
+      },
+      "", "ENV");
+}
+
+// --shading, one of the library's modes.
+inline CLI::Option* add_shading_option(CLI::App& app, std::string& shading, const std::string& help) {
+  return app.add_option("--shading", shading, help)->capture_default_str()->check(one_of(kShadingModes));
+}
+
 struct ViewOptions {
   std::string resolution;
   int spp = 16;
@@ -59,7 +96,7 @@ struct ViewOptions {
   float exposure = 0;
   std::string lights = "all";
   std::string light_pick = to_string(IntegratorSettings{}.light_pick);
-  std::string rig = std::string(PLUMAGE_DATA_DIR) + "/rigs/dome25.json";
+  std::string rig;  // empty: the built-in dome (default_rig_path())
   std::string backdrop = "white";
   int threads = 0;
   std::string projection = "perspective";
@@ -72,63 +109,135 @@ struct ViewOptions {
   ViewOptions(std::string default_resolution, std::string form)
       : resolution(std::move(default_resolution)), resolution_form(std::move(form)) {}
 
+  // Each option of a view, declared once: its name, help and check. Every command
+  // that takes one (render, compare, photo-to-feather, export, bench) adds it
+  // from here, so a value means and is checked the same in all of them.
+  enum class Opt {
+    Resolution, Spp, Allocation, Adaptive, TargetError, MinSpp, Seed, MaxDepth, Lights, LightPick, Rig, Threads,
+    Cull, Exposure, Backdrop, Projection, CameraPos, LookAt, Up, Fov, Margin
+  };
+  static constexpr Opt kSampling[] = {Opt::Spp,      Opt::Allocation, Opt::Adaptive,  Opt::TargetError,
+                                      Opt::MinSpp,   Opt::Seed,       Opt::MaxDepth,  Opt::Lights,
+                                      Opt::LightPick, Opt::Rig,       Opt::Threads};
+  static constexpr Opt kFraming[] = {Opt::Resolution, Opt::Cull, Opt::Exposure, Opt::Backdrop, Opt::Projection,
+                                     Opt::CameraPos,  Opt::LookAt, Opt::Up,     Opt::Fov,      Opt::Margin};
+
   // `resolution_help` and `lights_help` say what the size and the LEDs mean for the command.
   void add_to(CLI::App& app, const std::string& resolution_help, const std::string& lights_help) {
-    app.add_option("--resolution", resolution, resolution_help)->capture_default_str()->check(cli::resolution());
-    add_sampling_to(app, lights_help);
-    app.add_flag("--cull", cull, "Leave out of the BVH curves that can neither be seen nor shadow what is seen (docs/skip-work.md)");
-    app.add_option("--exposure", exposure, "Exposure in stops: pixels are scaled by 2^exposure")
-        ->capture_default_str()
-        ->check(in_range(-64, 64));
-    app.add_option("--backdrop", backdrop, "Card under the feather: white (albedo 0.8), black (0.03) or none")
-        ->capture_default_str()
-        ->check(one_of({"white", "black", "none"}));
-    app.add_option("--projection", projection, "perspective or orthographic")
-        ->capture_default_str()
-        ->check(one_of({"perspective", "orthographic"}));
-    app.add_option("--camera-pos", camera_pos, "Camera position X,Y,Z in mm (default: auto-framed top view)")
-        ->check(number_list({3}));
-    app.add_option("--look-at", look_at, "Point the camera looks at (default: the feather's centre)")
-        ->check(number_list({3}));
-    app.add_option("--up", up, "Camera up vector")->capture_default_str()->check(number_list({3}));
-    app.add_option("--fov", fov, "Vertical field of view in degrees (perspective)")
-        ->capture_default_str()
-        ->check(in_range(0.01, 179));
-    app.add_option("--margin", margin, "Auto-framing: fraction of the view left around the feather")
-        ->capture_default_str()
-        ->check(in_range(0, 10));
+    for (Opt o : kFraming) add(app, o, resolution_help);
+    for (Opt o : kSampling) add(app, o, lights_help);
   }
 
   // The options of how a view is sampled and lit, without its size, camera,
   // exposure and card: for a command that sets those itself (photo-to-feather).
   void add_sampling_to(CLI::App& app, const std::string& lights_help) {
-    app.add_option("--spp", spp, "Samples per pixel (a power of two suits the Sobol sampler)")
-        ->capture_default_str()
-        ->check(in_range(1, kMaxSpp));
-    app.add_option("--allocation", allocation,
-                   "How samples spread over pixels: variance (a pilot of spp/4, the rest where the noise is; "
-                   "unbiased) or uniform (spp everywhere); docs/skip-work.md")
-        ->capture_default_str()
-        ->check(one_of(kSampleAllocations));
-    app.add_flag("--adaptive", adaptive, "Adaptive sampling: a pixel stops once converged (--spp is the cap; docs/skip-work.md)");
-    app.add_option("--target-error", target_error, "With --adaptive: relative standard error of a pixel's mean at which it stops")
-        ->capture_default_str()
-        ->check(positive(1));
-    app.add_option("--min-spp", min_spp, "With --adaptive: samples every pixel takes before it may stop")
-        ->capture_default_str()
-        ->check(in_range(1, kMaxSpp));
-    app.add_option("--seed", seed, "Random seed; the same seed gives the same image at any --threads")->capture_default_str();
-    app.add_option("--max-depth", max_depth, "Maximum scattering events per path (1 = direct light only)")
-        ->capture_default_str()
-        ->check(in_range(0, 1024));
-    app.add_option("--lights", lights, lights_help)->capture_default_str();
-    app.add_option("--light-pick", light_pick,
-                   "Next-event estimation's choice of light: estimate (in proportion to each light's "
-                   "estimated contribution), uniform, or all (every light at every vertex); docs/rendering.md")
-        ->capture_default_str()
-        ->check(one_of(kLightPicks));
-    app.add_option("--rig", rig, "Light rig JSON file")->capture_default_str();
-    app.add_option("--threads", threads, "Worker threads (0 = all cores)")->capture_default_str()->check(in_range(0, kMaxThreads));
+    for (Opt o : kSampling) add(app, o, lights_help);
+  }
+
+  // One option; `help` replaces the generic text of --resolution and --lights.
+  CLI::Option* add(CLI::App& app, Opt which, const std::string& help = {}) {
+    const auto text = [&](const char* generic) { return help.empty() ? std::string(generic) : help; };
+    switch (which) {
+      case Opt::Resolution:
+        return app.add_option("--resolution", resolution, text("Image size WIDTHxHEIGHT"))
+            ->capture_default_str()
+            ->check(cli::resolution());
+      case Opt::Spp:
+        return app.add_option("--spp", spp, "Samples per pixel (a power of two suits the Sobol sampler)")
+            ->capture_default_str()
+            ->check(in_range(1, kMaxSpp));
+      case Opt::Allocation:
+        return app.add_option("--allocation", allocation,
+                              "How samples spread over pixels: variance (a pilot of spp/4, the rest where the noise "
+                              "is; unbiased) or uniform (spp everywhere); docs/skip-work.md")
+            ->capture_default_str()
+            ->check(one_of(kSampleAllocations));
+      case Opt::Adaptive:
+        return app.add_flag("--adaptive", adaptive,
+                            "Adaptive sampling: a pixel stops once converged (--spp is the cap; docs/skip-work.md)");
+      case Opt::TargetError:
+        return app.add_option("--target-error", target_error,
+                              "With --adaptive: relative standard error of a pixel's mean at which it stops")
+            ->capture_default_str()
+            ->check(positive(1))
+            ->needs("--adaptive");
+      case Opt::MinSpp:
+        return app.add_option("--min-spp", min_spp, "With --adaptive: samples every pixel takes before it may stop")
+            ->capture_default_str()
+            ->check(in_range(1, kMaxSpp))
+            ->needs("--adaptive");
+      case Opt::Seed:
+        return app.add_option("--seed", seed, "Random seed; the same seed gives the same image at any --threads")
+            ->capture_default_str();
+      case Opt::MaxDepth:
+        return app.add_option("--max-depth", max_depth, "Maximum scattering events per path (1 = direct light only)")
+            ->capture_default_str()
+            ->check(in_range(0, 1024));
+      case Opt::Lights:
+        return app.add_option("--lights", lights, text("Dome LEDs that are on: all, none, or numbers (e.g. 1,5,12 or 2-9)"))
+            ->capture_default_str()
+            ->check(light_list());
+      case Opt::LightPick:
+        return app.add_option("--light-pick", light_pick,
+                              "Next-event estimation's choice of light: estimate (in proportion to each light's "
+                              "estimated contribution), uniform, or all (every light at every vertex); docs/rendering.md")
+            ->capture_default_str()
+            ->check(one_of(kLightPicks));
+      case Opt::Rig:
+        return app.add_option("--rig", rig, "Light rig JSON file (default: the paper's 25-LED dome, rigs/dome25.json in "
+                                            "plumage's data folder)");
+      case Opt::Threads:
+        return app.add_option("--threads", threads, "Worker threads (0 = all cores)")
+            ->capture_default_str()
+            ->check(in_range(0, kMaxThreads));
+      case Opt::Cull:
+        return app.add_flag("--cull", cull,
+                            "Leave out of the BVH curves that can neither be seen nor shadow what is seen (docs/skip-work.md)");
+      case Opt::Exposure:
+        return app.add_option("--exposure", exposure, "Exposure in stops: pixels are scaled by 2^exposure")
+            ->capture_default_str()
+            ->check(in_range(-64, 64));
+      case Opt::Backdrop:
+        return app.add_option("--backdrop", backdrop, "Card under the feather: white (albedo 0.8), black (0.03) or none")
+            ->capture_default_str()
+            ->check(one_of({"white", "black", "none"}));
+      case Opt::Projection:
+        return app.add_option("--projection", projection, "perspective or orthographic")
+            ->capture_default_str()
+            ->check(one_of({"perspective", "orthographic"}));
+      case Opt::CameraPos:
+        return app.add_option("--camera-pos", camera_pos, "Camera position X,Y,Z in mm (default: auto-framed top view)")
+            ->check(number_list({3}));
+      case Opt::LookAt:
+        return app.add_option("--look-at", look_at, "Point the camera looks at (default: the feather's centre)")
+            ->check(number_list({3}));
+      case Opt::Up:
+        return app.add_option("--up", up, "Camera up vector")->capture_default_str()->check(number_list({3}));
+      case Opt::Fov:
+        return app.add_option("--fov", fov, "Vertical field of view in degrees (perspective)")
+            ->capture_default_str()
+            ->check(in_range(0.01, 179));
+      case Opt::Margin:
+        return app.add_option("--margin", margin, "Auto-framing: fraction of the view left around the feather")
+            ->capture_default_str()
+            ->check(in_range(0, 10));
+    }
+    return nullptr;
+  }
+
+  // --rig, or the built-in dome.
+  std::filesystem::path rig_file() const { return rig.empty() ? default_rig_path() : std::filesystem::path(rig); }
+
+  // The rig, read first of a command's files, with --lights checked against its
+  // LEDs (light_list() checked the grammar while parsing).
+  DomeRig read_rig() const {
+    DomeRig r = read_dome_rig(rig_file());
+    try {
+      (void)light_ranges(lights, int(r.leds.size()));
+    } catch (const Error& e) {
+      throw UsageError(e.what());  // an LED the rig does not have
+    }
+    return r;
   }
 
   // Everything add_sampling_to's options set; size, camera, exposure and base folder left at their defaults.

@@ -133,7 +133,7 @@ TEST_F(CurvesCli, ExportTakesTheViewOptions) {
 
   const std::size_t before = files_in_dir();
   r = run("export " + path("f.fcurves") + " --format pbrt -o " + path("bad.pbrt") + " --lights 26");
-  EXPECT_EQ(r.rc, 1);
+  EXPECT_EQ(r.rc, 2);  // an LED the rig lacks: a usage error
   EXPECT_EQ(r.err.rfind("plumage: error: ", 0), 0u) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_EQ(files_in_dir(), before);

@@ -125,16 +125,17 @@ TEST_F(GenerateCli, BadInputNamesTheProblemAndLeavesNoFile) {
   write_file_atomic(path("keep.fcurves"), "old");
   const struct {
     std::string args, expect;
+    int rc;  // 2: a usage error, found before any file is read
   } cases[] = {
-      {"generate -o " + path("x.fcurves"), "give exactly one of --preset NAME or --params FILE"},
-      {"generate --preset rock-dove-wing", "no output file"},
-      {"generate --layout " + path("layout.json") + " -o " + path("x.fcurves"), path("layout.json")},  // missing file
+      {"generate -o " + path("x.fcurves"), "give --preset NAME (--list-presets names them), --params FILE or --layout", 2},
+      {"generate --preset rock-dove-wing", "no output file", 2},
+      {"generate --layout " + path("layout.json") + " -o " + path("x.fcurves"), path("layout.json"), 1},  // missing file
       {"generate --params " + path("bad.json") + " -o " + path("keep.fcurves"),
-       path("bad.json") + ": shaft.length: value -3 is out of range; allowed [1, 2000] mm"},
+       path("bad.json") + ": shaft.length: value -3 is out of range; allowed [1, 2000] mm", 1},
   };
   for (const auto& c : cases) {
     const CliResult r = plumage_cli(c.args);
-    EXPECT_EQ(r.rc, 1) << c.args;
+    EXPECT_EQ(r.rc, c.rc) << c.args;
     EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.args << "\n-> " << r.output;
   }
   EXPECT_FALSE(fs::exists(path("x.fcurves")));

@@ -8,22 +8,11 @@
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
+#include "plumage/common/install.h"
+#include "plumage/common/json_file.h"
 
 namespace plumage {
 namespace {
-
-Location location_of_byte(const std::string& text, std::size_t byte, const std::string& file) {
-  int line = 1, col = 1;
-  for (std::size_t i = 0; i < byte && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      col = 1;
-    } else {
-      ++col;
-    }
-  }
-  return {file, line, col};
-}
 
 glm::vec3 read_vec3_or_scalar(const nlohmann::json& j, const std::string& what, const std::string& file) {
   if (j.is_number()) return glm::vec3(j.get<float>());
@@ -35,13 +24,7 @@ glm::vec3 read_vec3_or_scalar(const nlohmann::json& j, const std::string& what, 
 }  // namespace
 
 DomeRig parse_dome_rig(const std::string& text, const std::string& file) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw Error(location_of_byte(text, e.byte > 0 ? e.byte - 1 : 0, file),
-                std::string("malformed JSON: ") + e.what());
-  }
+  const nlohmann::json j = parse_json(text, file);
   if (!j.is_object()) throw Error(Location{file}, "a light rig is a JSON object with \"leds\"");
   DomeRig rig;
   rig.name = j.value("name", std::string("rig"));
@@ -71,43 +54,47 @@ DomeRig parse_dome_rig(const std::string& text, const std::string& file) {
   return rig;
 }
 
+std::filesystem::path default_rig_path() { return data_dir() / "rigs" / "dome25.json"; }
+
 DomeRig read_dome_rig(const std::filesystem::path& path) {
-  return parse_dome_rig(read_file(path), path.string());
+  return parse_dome_rig(read_json_text(path), path.string());
+}
+
+std::vector<std::pair<int, int>> light_ranges(const std::string& spec, int count) {
+  if (spec == "all") return {{1, count}};
+  if (spec == "none" || spec.empty()) return {};
+  const std::string hint = "; give --lights all, none, or LED numbers" +
+                           (count == std::numeric_limits<int>::max() ? std::string() : " 1.." + std::to_string(count)) +
+                           " such as 1,5,12 or 1-8";
+  auto number = [&](const std::string& s) {
+    if (s.empty() || s.size() > 9 || s.find_first_not_of("0123456789") != std::string::npos)
+      throw Error("--lights: '" + s + "' is not an LED number" + hint);
+    const int v = std::stoi(s);
+    if (v < 1 || v > count) throw Error("--lights: LED " + s + " does not exist" + hint);
+    return v;
+  };
+  std::vector<std::pair<int, int>> out;
+  std::stringstream ss(spec);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    const auto dash = item.find('-', 1);
+    if (dash == std::string::npos) {
+      const int a = number(item);
+      out.emplace_back(a, a);
+    } else {
+      const int a = number(item.substr(0, dash)), b = number(item.substr(dash + 1));
+      if (a > b) throw Error("--lights: range '" + item + "' runs backwards" + hint);
+      out.emplace_back(a, b);
+    }
+  }
+  if (spec.back() == ',') throw Error("--lights: '" + spec + "' ends with a comma" + hint);
+  return out;
 }
 
 std::vector<int> parse_light_selection(const std::string& spec, int count) {
   std::vector<int> out;
-  if (spec == "all") {
-    for (int i = 0; i < count; ++i) out.push_back(i);
-    return out;
-  }
-  if (spec == "none" || spec.empty()) return out;
-  std::stringstream ss(spec);
-  std::string item;
-  const std::string hint = "; give --lights all, none, or LED numbers 1.." + std::to_string(count) +
-                           " such as 1,5,12 or 1-8";
-  auto number = [&](const std::string& s) {
-    std::size_t used = 0;
-    int v = 0;
-    try {
-      v = std::stoi(s, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != s.size()) throw Error("--lights: '" + s + "' is not a number" + hint);
-    if (v < 1 || v > count) throw Error("--lights: LED " + s + " does not exist" + hint);
-    return v - 1;
-  };
-  while (std::getline(ss, item, ',')) {
-    const auto dash = item.find('-', 1);
-    if (dash == std::string::npos) {
-      out.push_back(number(item));
-    } else {
-      const int a = number(item.substr(0, dash)), b = number(item.substr(dash + 1));
-      if (a > b) throw Error("--lights: range '" + item + "' runs backwards" + hint);
-      for (int i = a; i <= b; ++i) out.push_back(i);
-    }
-  }
+  for (const auto& [a, b] : light_ranges(spec, count))
+    for (int i = a; i <= b; ++i) out.push_back(i - 1);
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
