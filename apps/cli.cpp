@@ -62,8 +62,23 @@ int parse_command_line(int argc, const char* const* argv, std::function<int()>& 
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     std::string help = "plumage --help";  // or the help of the subcommand that was parsed
-    for (const CLI::App* sub : app.get_subcommands()) help = "plumage " + sub->get_name() + " --help";
-    std::cerr << "plumage: error: " << printable(e.what()) << " (see `" << help << "`)\n";
+    const CLI::App* parsed = nullptr;
+    for (const CLI::App* sub : app.get_subcommands()) parsed = sub;
+    if (parsed) help = "plumage " + parsed->get_name() + " --help";
+    // CLI11 checks required values before it reports what it did not know, so a
+    // misspelt command or option would read "A subcommand is required" or
+    // "input is required": name the word it did not know instead.
+    std::string message = e.what();
+    const std::vector<std::string> extras = app.remaining(true);
+    if (dynamic_cast<const CLI::RequiredError*>(&e) && !extras.empty()) {
+      if (parsed) {
+        if (extras[0].rfind('-', 0) == 0) message = "unknown option " + extras[0];
+      } else if (extras[0].rfind('-', 0) != 0) {
+        message = "unknown command '" + extras[0] + "'; the commands are";
+        for (std::size_t i = 0; i < specs.size(); ++i) message += (i ? ", " : " ") + specs[i].name;
+      }
+    }
+    std::cerr << "plumage: error: " << printable(message) << " (see `" << help << "`)\n";
     return 2;
   }
   return -1;

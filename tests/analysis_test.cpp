@@ -824,6 +824,35 @@ TEST(AnalysisBadInput, LargeImageIsAnalysedDownscaled) {
   EXPECT_NEAR(L.feathers.at(0).length_mm, 0.1 * F.length, 0.03 * 0.1 * F.length);
 }
 
+// Every layout the analysis writes is one the generator accepts: a given scale
+// that makes the shaft longer than a feather can be is refused naming
+// --mm-per-px, and the guessed scale (0.1 mm per pixel) is lowered for a photo
+// so large that its feather would pass that length.
+TEST(AnalysisBadInput, AScaleBeyondAnyFeathersLengthIsRefusedOrLowered) {
+  const fs::path dir = temp_dir("bad_scale");
+  SyntheticFeather F;
+  F.width = 500, F.height = 420, F.calamus = {200, 400}, F.length = 330, F.dir_deg = -80;
+  write_image(dir / "f.png", F.draw());
+  const std::string run = "analyze \"" + (dir / "f.png").string() + "\" -o \"" + (dir / "out.json").string() + "\"";
+  CliRun r = cli(dir, run + " --mm-per-px 10");  // a 3.3 m shaft
+  EXPECT_EQ(r.rc, 1);
+  EXPECT_NE(r.err.find("feather 1: its shaft is"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("(given by --mm-per-px), outside the [1, 2000] mm"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out.json"));
+  // Without a scale: 0.1 mm per pixel, as long as the largest region stays within
+  // 1000 mm; the same feather analysed as if its photo were 40x larger.
+  AnalyzeOptions guess;
+  guess.default_mm_per_px = 4.0;
+  const PhotoAnalysis a = analyze_photo(dir / "f.png", guess);
+  ASSERT_EQ(a.layout.feathers.size(), 1u);
+  EXPECT_LT(a.layout.scale.mm_per_px, 4.0);
+  EXPECT_LE(a.layout.feathers[0].length_mm, 1000.0);
+  EXPECT_GT(a.layout.feathers[0].length_mm, 500.0);
+  bool said = false;
+  for (const auto& w : a.warnings) said |= w.find("lowered from 4 so the largest feather is at most 1000 mm") != std::string::npos;
+  EXPECT_TRUE(said);
+}
+
 class AnalysisPhotoFormats : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(AnalysisPhotoFormats, GreyAlphaAnd16BitPhotosAreRead) {

@@ -502,6 +502,10 @@ TEST_F(HostileCli, OneOptionModelInEveryCommand) {
       {"photo-to-feather {d}/missing.png -o {o}/ptf --min-spp 4", 2, "--adaptive"},
       {"info " + missing + " --spp 4", 2, "--spp"},
       {"analyze {d}/missing.png -o {o}/out.json --spp 4", 2, "--spp"},
+      {"bogus", 2, "unknown command 'bogus'; the commands are analyze, bench"},
+      {"-q rendr {d}/missing.fcurves -o {o}/out.png", 2, "unknown command 'rendr'"},
+      {"render --bogus", 2, "unknown option --bogus"},
+      {"generate --presets rock-dove-wing", 2, "--presets"},
   };
   cases.insert(cases.end(), combinations.begin(), combinations.end());
   run_cases("one_model", cases);

@@ -107,7 +107,7 @@ void validate_vane(const Checker& c, const std::string& side, const VaneParams& 
 void validate(const FeatherParams& p, const std::string& source) {
   const Checker c(source);
   const ShaftParams& s = p.shaft;
-  c.range("shaft.length", s.length, 1.0, 2000.0, "mm");
+  c.range("shaft.length", s.length, kMinShaftLengthMm, kMaxShaftLengthMm, "mm");
   c.range("shaft.calamus_length", s.calamus_length, 0.0, 0.9 * s.length, "mm (at most 0.9 x shaft.length)");
   c.range("shaft.bend_deg", s.bend_deg, -90.0, 90.0, "degrees");
   c.range("shaft.arch_deg", s.arch_deg, -90.0, 90.0, "degrees");

@@ -37,8 +37,9 @@ struct Checker {
 
 void check_layout(const FeatherLayout& f, const Checker& c) {
   const std::string at = "feather " + std::to_string(f.id);
-  if (!std::isfinite(f.length_mm) || f.length_mm < 1.0 || f.length_mm > 2000.0)
-    c.fail(at + " shaft.length_mm", "value " + num(f.length_mm) + " is out of range; allowed [1, 2000] mm");
+  if (!std::isfinite(f.length_mm) || f.length_mm < kMinShaftLengthMm || f.length_mm > kMaxShaftLengthMm)
+    c.fail(at + " shaft.length_mm", "value " + num(f.length_mm) + " is out of range; allowed [" +
+                                        num(kMinShaftLengthMm) + ", " + num(kMaxShaftLengthMm) + "] mm");
   if (!f.shaft_mm.valid()) c.fail(at + " shaft.control_points_mm", "needs at least 4 control points");
   for (const auto& p : f.shaft_mm.control_points())
     if (!std::isfinite(p.x) || !std::isfinite(p.y)) c.fail(at + " shaft.control_points_mm", "not a finite number");

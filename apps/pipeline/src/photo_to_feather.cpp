@@ -160,7 +160,12 @@ void photo_to_feather(const PhotoToFeatherSettings& o, const StageReport& report
   std::vector<fs::path> written;
   try {
     stages.run("analyze", written, [&] {
-      analysis = analyze_photo(o.photo, o.analyze);
+      // The compare stage reads the photo whole (as any image input, at most
+      // kMaxImageMegapixels), so the analysis refuses a larger one from its header
+      // before any work, not only after analysing it.
+      AnalyzeOptions analyze = o.analyze;
+      analyze.refuse_megapixels = std::min(analyze.refuse_megapixels, kMaxImageMegapixels);
+      analysis = analyze_photo(o.photo, analyze);
       write_analysis(analysis, layout_path, overlay_path);
       written = {layout_path, overlay_path};
       for (const auto& f : analysis.layout.feathers) written.push_back(out / f.albedo.file);

@@ -155,9 +155,21 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
       L.scale = {opt.grid_mm / (grid.period_px / ds), ScaleSource::Grid, grid.confidence,
                  grid.period_px / ds, opt.grid_mm};
     } else {
-      L.scale = {opt.default_mm_per_px, ScaleSource::Default, 0.1, 0.0, 0.0};
-      out.warnings.push_back("no grid or ruler found and no --mm-per-px given: assuming " +
-                             num(opt.default_mm_per_px) + " mm per pixel, so every length is a guess");
+      // The guess, lowered where a large photo would make its largest region longer
+      // than half the longest shaft a feather may have (a 30000-pixel photo of one
+      // feather would otherwise give a 3 m feather that no layout reader accepts).
+      double longest_px = 0;
+      for (const Component& c : seg.feathers) longest_px = std::max(longest_px, std::hypot(c.bbox.width, c.bbox.height) / ds);
+      const double cap = longest_px > 0 ? 0.5 * kMaxShaftLengthMm / longest_px : opt.default_mm_per_px;
+      const double guess = std::min(opt.default_mm_per_px, cap);
+      L.scale = {guess, ScaleSource::Default, 0.1, 0.0, 0.0};
+      out.warnings.push_back("no grid or ruler found and no --mm-per-px given: assuming " + num(guess) +
+                             " mm per pixel" +
+                             (guess < opt.default_mm_per_px ? " (lowered from " + num(opt.default_mm_per_px) +
+                                                                  " so the largest feather is at most " +
+                                                                  num(0.5 * kMaxShaftLengthMm) + " mm long)"
+                                                            : std::string()) +
+                             ", so every length is a guess");
     }
   }
   const double mm_per_work_px = L.scale.mm_per_px / ds;
@@ -273,6 +285,14 @@ void analyze_feather(const Photo& photo, const Segmentation& seg, const Componen
   for (const auto& c : shaft_px.control_points()) cps.push_back(apply(f_from_work, c));
   f.shaft_mm = BSpline2(cps);
   f.length_mm = spline_length(f.shaft_mm);
+  if (!(f.length_mm >= kMinShaftLengthMm && f.length_mm <= kMaxShaftLengthMm)) {
+    const char* from = L.scale.source == ScaleSource::Given  ? "given by --mm-per-px"
+                       : L.scale.source == ScaleSource::Grid ? "read from the grid"
+                                                             : "assumed";
+    throw Error("its shaft is " + num(f.length_mm) + " mm long at " + num(L.scale.mm_per_px) +
+                                " mm per pixel (" + from + "), outside the [" + num(kMinShaftLengthMm) + ", " +
+                                num(kMaxShaftLengthMm) + "] mm a feather may be; give the photo's scale with --mm-per-px");
+  }
   f.shaft_width_mm = shaft.width_px * mm_per_work_px;
   f.shaft_confidence = shaft.confidence;
   f.shaft_seen = shaft.seen;

@@ -16,6 +16,11 @@
 
 namespace plumage {
 
+// The shaft lengths a feather may have, calamus base to tip: the one rule the
+// parameter validator, the layout reader and the photo analysis share.
+inline constexpr double kMinShaftLengthMm = 1.0;
+inline constexpr double kMaxShaftLengthMm = 2000.0;
+
 struct ShaftParams {
   double length = 100;          // calamus base to tip, along the shaft
   double calamus_length = 15;   // bare base without barbs
