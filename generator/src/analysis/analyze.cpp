@@ -163,12 +163,11 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
       const double cap = longest_px > 0 ? 0.5 * kMaxShaftLengthMm / longest_px : opt.default_mm_per_px;
       const double guess = std::min(opt.default_mm_per_px, cap);
       L.scale = {guess, ScaleSource::Default, 0.1, 0.0, 0.0};
-      out.warnings.push_back("no grid or ruler found and no --mm-per-px given: assuming " + num(guess) +
-                             " mm per pixel" +
-                             (guess < opt.default_mm_per_px ? " (lowered from " + num(opt.default_mm_per_px) +
-                                                                  " so the largest feather is at most " +
-                                                                  num(0.5 * kMaxShaftLengthMm) + " mm long)"
-                                                            : std::string()) +
+      std::string assumed = num(guess) + " mm per pixel";
+      if (guess < opt.default_mm_per_px)
+        assumed += " (lowered from " + num(opt.default_mm_per_px) + " so the largest feather is at most " +
+                   num(0.5 * kMaxShaftLengthMm) + " mm long)";
+      out.warnings.push_back("no grid or ruler found and no --mm-per-px given: assuming " + assumed +
                              ", so every length is a guess");
     }
   }
