@@ -27,6 +27,7 @@ struct Options {
   double grid_mm = 10.0;
   int size = kDefaultSize;
   bool fidelity_image = false;
+  int calibrate = CalibrationSettings{}.probes;
   ViewOptions view = default_view();
 
   static constexpr int kDefaultSize = 672;
@@ -51,6 +52,7 @@ int run_photo_to_feather(const Options& o) {
   s.analyze.feather = o.feather;
   s.size = o.size;
   s.fidelity_image = o.fidelity_image;
+  s.calibration.probes = o.calibrate;
   const bool quiet = global_options().quiet;
   photo_to_feather(
       s,
@@ -90,6 +92,11 @@ const Registration kPhotoToFeather{
           ->check(in_range(16, 4096));
       sub.add_flag("--fidelity-image", o->fidelity_image,
                    "Also write fidelity.png: each render's silhouette against the photo's and its pixel dE2000");
+      sub.add_option("--calibrate", o->calibrate,
+                     "Probe renders per shading mode that bring its mean colour to the photo's (0: the card-response "
+                     "table alone); docs/analysis.md, \"Colour calibrated by rendering\"")
+          ->capture_default_str()
+          ->check(in_range(0, 16));
       o->view.add_sampling_to(sub, "Dome LEDs that are on");
       return [o] { return run_photo_to_feather(*o); };
     }};

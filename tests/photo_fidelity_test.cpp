@@ -418,11 +418,21 @@ TEST_F(PhotoFidelityBounds, PinkFeather) {
   const fs::path photo = fs::path(PLUMAGE_SHARED_DIR) / "photos" / "pink-contour-feather.jpg";
   if (!fs::exists(photo)) GTEST_SKIP() << photo << " not present";
   const nlohmann::json f = run(photo, "");
-  expect_bounds(f, 8.0, 2.0);
-  // Substructure no farther from the photo than hair (measured at this setting:
-  // hair 1.87, substructure 1.51; docs/analysis.md, "Photo-to-feather study").
-  EXPECT_LE(f.at("substructure").at("feather").at("mean_colour_de2000").get<double>(),
-            f.at("hair").at("feather").at("mean_colour_de2000").get<double>());
+  // Each panel's colour calibrated on its own render (docs/analysis.md, "Colour
+  // calibrated by rendering"): within ΔE00 1.5 of the photo's mean (1.9 hair, 1.3
+  // substructure with the card-response table alone, --calibrate 0).
+  expect_bounds(f, 1.5, 2.0);
+  for (const char* panel : {"hair", "substructure"}) {
+    const auto& probes = f.at(panel).at("calibration").at("probes");
+    ASSERT_FALSE(probes.empty()) << panel;
+    EXPECT_LT(f.at(panel).at("feather").at("mean_colour_de2000").get<double>(),
+              probes.at(0).at("mean_colour_de2000").get<double>()) << panel;
+  }
+  // With both means at the photo's, the pattern is what separates the shading
+  // models: the substructure panel no farther from the photo, pixel by pixel, than
+  // hair's (the paper's claim; measured at this setting: 3.42 hair, 2.94 substructure).
+  EXPECT_LE(f.at("substructure").at("feather").at("pixel_de2000").get<double>(),
+            f.at("hair").at("feather").at("pixel_de2000").get<double>());
 }
 
 // Issue 33's bound on pale feathers: pixel ΔE00 <= 10 for both render panels.

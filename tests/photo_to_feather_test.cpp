@@ -109,6 +109,19 @@ TEST_F(PhotoToFeather, SyntheticPhotoGivesEveryArtifactAndASummary) {
       EXPECT_GE(fid.at(panel).at(part).at("mean_colour_de2000").get<double>(), 0.0);
     }
   EXPECT_GT(fid.at("hair").at("feather").at("photo_pixels").get<int>(), 100);
+  // Each panel's colour calibration (--calibrate 3 by default): at most 3 probes,
+  // the first at gain 1, every gain in [1/8, 8].
+  for (const char* panel : {"hair", "substructure"}) {
+    const nlohmann::json& cal = fid.at(panel).at("calibration");
+    const auto& probes = cal.at("probes");
+    ASSERT_GE(probes.size(), 1u) << panel;
+    EXPECT_LE(probes.size(), 3u) << panel;
+    EXPECT_EQ(probes.at(0).at("gain"), nlohmann::json({1.0, 1.0, 1.0})) << panel;
+    for (const auto& g : cal.at("gain")) {
+      EXPECT_GE(g.get<double>(), 0.125) << panel;
+      EXPECT_LE(g.get<double>(), 8.0) << panel;
+    }
+  }
 }
 
 TEST_F(PhotoToFeather, PanelsLargerThanThePhotoAreTracedOnThePhotosGrid) {
@@ -116,10 +129,15 @@ TEST_F(PhotoToFeather, PanelsLargerThanThePhotoAreTracedOnThePhotosGrid) {
   // traced on the photo's grid with the panels' samples gathered there.
   const std::string photo = synthetic_photo();
   const CliResult r =
-      plumage_cli("photo-to-feather " + photo + " -o " + path("out") + " --mm-per-px 0.2 --spp 1 --size 900");
+      plumage_cli("photo-to-feather " + photo + " -o " + path("out") + " --mm-per-px 0.2 --spp 1 --size 900 --calibrate 0");
   ASSERT_EQ(r.rc, 0) << r.output;
   EXPECT_NE(r.output.find("traced at the photo's "), std::string::npos) << r.output;
   const nlohmann::json s = nlohmann::json::parse(read_file(dir_ / "out" / "summary.json"));
+  // No calibration asked: no probe, gain 1.
+  for (const char* panel : {"hair", "substructure"}) {
+    EXPECT_TRUE(s.at("fidelity").at(panel).at("calibration").at("probes").empty()) << panel;
+    EXPECT_EQ(s.at("fidelity").at(panel).at("calibration").at("gain"), nlohmann::json({1.0, 1.0, 1.0})) << panel;
+  }
   const nlohmann::json& render = s.at("render");
   const int pw = render.at("panel_width"), ph = render.at("panel_height");
   const int tw = render.at("traced_width"), th = render.at("traced_height");

@@ -78,9 +78,20 @@ glm::vec3 photo_albedo_to_fibre(const glm::vec3& area_albedo, float coverage, in
   return glm::vec3(1.0f) - (glm::vec3(1.0f) - t) / coverage;
 }
 
-void FibreMaterial::set_card(const glm::vec3& card, const CardResponse& response, bool absolute) {
+void FibreMaterial::set_card(const glm::vec3& card, const CardResponse& response, bool absolute,
+                             const glm::vec3& mean_gain) {
   card_.emplace(response, card);
   texel_scale_ = absolute ? 1.0f / glm::max(card, glm::vec3(1e-3f)) : glm::vec3(1.0f);
+  shift_ = glm::vec3(0.0f);
+  if (mean_gain == glm::vec3(1.0f) || !albedo_ || !albedo_->textured()) return;
+  glm::dvec3 sum(0.0);
+  for (int y = 0; y < albedo_->height(); ++y)
+    for (int x = 0; x < albedo_->width(); ++x) sum += glm::dvec3(albedo_->texel(x, y) * texel_scale_);
+  shift_ = (mean_gain - 1.0f) * glm::vec3(sum / (double(albedo_->width()) * albedo_->height()));
+}
+
+glm::vec3 FibreMaterial::target(const glm::vec3& texel) const {
+  return glm::max(texel * texel_scale_ + shift_, glm::vec3(0.0f));
 }
 
 InversionCounts FibreMaterial::count_inversion() const {
@@ -88,7 +99,7 @@ InversionCounts FibreMaterial::count_inversion() const {
   if (!card_ || !albedo_ || !albedo_->textured()) return n;
   for (int y = 0; y < albedo_->height(); ++y)
     for (int x = 0; x < albedo_->width(); ++x) {
-      const FibreColour fc = (*card_)(albedo_->texel(x, y) * texel_scale_);
+      const FibreColour fc = (*card_)(target(albedo_->texel(x, y)));
       ++n.texels;
       n.medulla += fc.medulla_sigma_s > 0.0f;
       n.clamped += fc.clamped;
@@ -113,7 +124,7 @@ HairParams FibreMaterial::from_albedo(glm::vec3 a, float coverage, int layers) c
   HairParams hp = params_;
   if (mapping_ == AlbedoMapping::Layer && albedo_ && albedo_->textured()) {
     if (card_) {
-      const FibreColour fc = (*card_)(a * texel_scale_);
+      const FibreColour fc = (*card_)(target(a));
       a = fc.albedo;
       if (fc.medulla_sigma_s > 0.0f) {
         hp.medulla_ratio = kPhotoMedullaRatio;

@@ -3,6 +3,8 @@
 #include "plumage/pipeline/photo_comparison.h"
 #include "plumage/common/image.h"
 
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 
 #include "plumage/common/atomic_file.h"
@@ -73,7 +75,7 @@ Bounds3f control_point_bounds(const Feather& feather) {
 
 PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, const FeatherLayout& picked,
                                    const Feather& feather, const DomeRig& rig, ViewSpec view, int size,
-                                   const FidelitySettings& settings) {
+                                   const FidelitySettings& settings, const CalibrationSettings& calibration) {
   PhotoComparison c;
   c.settings = settings;
   c.crop = crop_for(layout, picked, size);
@@ -100,20 +102,63 @@ PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, con
   // the card that stands for the cloth.
   view.photo_card = so.backdrop.albedo;
   view.photo_texture_absolute = layout.background != "light";
-  c.panels.push_back({std::move(photo_panel), "photo"});
-  for (Panel& p : render_both_modes(feather, so, rig, view)) {
-    p.image = show_on_panel(p.image, c.render_grid, c.crop);
-    c.panels.push_back(std::move(p));
-  }
-  if (!feather.albedo.texture.empty())
-    for (ShadingMode mode : {ShadingMode::Hair, ShadingMode::Substructure})
-      c.inversion.push_back(view_material(feather, view, mode).count_inversion());
   c.regions = crop_regions(picked, c.crop);
   // The photo's backdrop is its background (neighbouring feathers may lie in its
   // ring); a render's card is alone in its panel.
-  for (const Panel& p : c.panels)
-    c.measured.push_back(measure_panel(p.image, c.regions, settings,
-                                       c.measured.empty() ? std::optional<glm::vec3>(bg) : std::nullopt));
+  const MeasuredPanel photo_measured = measure_panel(photo_panel, c.regions, settings, bg);
+  c.measured.push_back(photo_measured);
+  // Probes need the mean over the mask, not its detail: a render grid longer than
+  // kProbeSide pixels is coarsened by a whole factor to at most that. Not below: on
+  // a coarse grid a feather's edge mixes with the card, and where the render's
+  // silhouette is not the photo's (blue-jay F25's downy plume, IoU 0.55) a probe on
+  // half the grid read ΔE00 1.1 darker than the render it stood for.
+  constexpr int kProbeSide = 320;
+  const int coarser = std::max(1, (std::max(c.render_grid.width, c.render_grid.height) + kProbeSide - 1) / kProbeSide);
+  PhotoCrop probe_grid = c.render_grid;
+  probe_grid.px_per_panel_px *= coarser;
+  probe_grid.width = (c.render_grid.width + coarser - 1) / coarser;
+  probe_grid.height = (c.render_grid.height + coarser - 1) / coarser;
+  // What a probe is held to: the photo seen through that same grid and measured over
+  // its own feather mask, so that a coarse pixel that mixes a thin feather's edge
+  // with the card does so in both (on blue-jay F25's downy plume the full-resolution
+  // photo's mean put a probe ΔE00 1.2 farther than the render it stood for).
+  const MeasuredPanel photo_on_probe_grid =
+      measure_panel(show_on_panel(crop_photo(photo, probe_grid), probe_grid, c.crop), c.regions, settings, bg);
+  const glm::vec3 photo_mean = compare_panels(photo_measured, photo_on_probe_grid, c.regions).feather.render_mean;
+  c.panels.push_back({std::move(photo_panel), "photo"});
+  // Both scenes first: a bad substructure parameter fails before anything renders.
+  so.mode = ShadingMode::Hair;
+  const Scene hair(feather, so);
+  so.mode = ShadingMode::Substructure;
+  const Scene substructure(feather, so);
+  // Each mode's colour calibrated on its own scene (colour_calibration.h), then
+  // rendered; a feather without a photo texture has nothing to calibrate.
+  CalibrationSettings cs = calibration;
+  if (feather.albedo.texture.empty()) cs.probes = 0;
+  for (const Scene* s : {&hair, &substructure}) {
+    const Scene& scene = *s;
+    const ShadingMode mode = scene.options().mode;
+    ViewSpec probe = view;
+    probe.width = probe_grid.width;
+    probe.height = probe_grid.height;
+    probe.camera = crop_camera(picked, probe_grid);
+    probe.spp = std::max(1, view.spp / std::max(1, cs.spp_divisor));
+    probe.allocation = SampleAllocation::Uniform;
+    probe.adaptive = false;
+    probe.progress = false;
+    const auto probe_mean = [&](const glm::vec3& gain) {
+      probe.photo_gain = gain;
+      const Image shown = show_on_panel(render_view(scene, rig, probe), probe_grid, c.crop);
+      const MeasuredPanel m = measure_panel(shown, c.regions, settings);
+      return compare_panels(photo_measured, m, c.regions).feather.render_mean;
+    };
+    ViewSpec v = view;
+    c.calibration.push_back(calibrate_colour(probe_mean, photo_mean, cs));
+    v.photo_gain = c.calibration.back().gain;
+    c.panels.push_back({show_on_panel(render_view(scene, rig, v), c.render_grid, c.crop), to_string(mode)});
+    c.measured.push_back(measure_panel(c.panels.back().image, c.regions, settings));
+    if (!feather.albedo.texture.empty()) c.inversion.push_back(view_material(feather, v, mode).count_inversion());
+  }
   for (std::size_t i = 1; i < c.measured.size(); ++i)
     c.fidelity.push_back(compare_panels(c.measured[0], c.measured[i], c.regions));
   return c;
@@ -145,6 +190,15 @@ nlohmann::json fidelity_json(const PhotoComparison& c) {
                                 {"spp", c.render_spp}};
   for (std::size_t i = 1; i < c.panels.size(); ++i) {
     j[c.panels[i].label] = to_json(c.fidelity[i - 1]);
+    if (i - 1 < c.calibration.size()) {
+      const ColourCalibration& cal = c.calibration[i - 1];
+      nlohmann::json probes = nlohmann::json::array();
+      for (const CalibrationProbe& p : cal.probes)
+        probes.push_back({{"gain", {p.gain.x, p.gain.y, p.gain.z}},
+                          {"render_mean_rgb", {p.render_mean.x, p.render_mean.y, p.render_mean.z}},
+                          {"mean_colour_de2000", p.de2000}});
+      j[c.panels[i].label]["calibration"] = {{"gain", {cal.gain.x, cal.gain.y, cal.gain.z}}, {"probes", probes}};
+    }
     if (i - 1 < c.inversion.size()) {
       const InversionCounts& n = c.inversion[i - 1];
       j[c.panels[i].label]["inversion"] = {{"texels", n.texels}, {"medulla", n.medulla}, {"clamped", n.clamped}};

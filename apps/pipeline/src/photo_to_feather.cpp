@@ -207,7 +207,7 @@ void photo_to_feather(const PhotoToFeatherSettings& o, const StageReport& report
       ViewSpec view = sampling;
       view.base_dir = out;
       comparison = compare_with_photo(read_image(o.photo, true, kMaxImageMegapixels, &photo_source), analysis.layout,
-                                      f, feather, o.rig, view, o.size);
+                                      f, feather, o.rig, view, o.size, FidelitySettings{}, o.calibration);
       FileBatch outputs;
       write_image(outputs, comparison_path, comparison_image(comparison));
       if (o.fidelity_image) write_image(outputs, fidelity_path, fidelity_image(comparison));

@@ -45,6 +45,10 @@ struct ViewSpec {
   // photo_texture_absolute (a dark background: the photo's own colour).
   std::optional<glm::vec3> photo_card;
   bool photo_texture_absolute = false;
+  // Per channel, the factor on the photo texture's mean, applied as a shift of every
+  // texel before the inversion (FibreMaterial::set_card's mean_gain):
+  // photo-to-feather's colour calibration of a shading mode (colour_calibration.h).
+  glm::vec3 photo_gain{1.0f};
   int threads = 0;
   bool progress = false;
   SampleAllocation allocation = RenderSettings{}.allocation;

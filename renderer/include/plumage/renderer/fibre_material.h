@@ -100,7 +100,14 @@ class FibreMaterial {
   // paler than clear fibres can look, a medulla (ratio kPhotoMedullaRatio) that
   // scatters; so the vane looks as the photo's does although part of its light
   // never reaches the card (card_response.h).
-  void set_card(const glm::vec3& card, const CardResponse& response, bool absolute = false);
+  // `mean_gain` (photo-to-feather's colour calibration, colour_calibration.h)
+  // moves every texel by (mean_gain - 1) times the texture's mean, per channel, so
+  // the mean is mean_gain times itself and the detail stays: what the table misses
+  // for a rendered feather is mostly light that never reaches the card, the same
+  // on a dark texel as on a pale one, so a shift, not a scale, corrects it (a
+  // texel shifted below 0 is taken as 0). 1 leaves the texels as they are.
+  void set_card(const glm::vec3& card, const CardResponse& response, bool absolute = false,
+                const glm::vec3& mean_gain = glm::vec3(1.0f));
 
   // Every texel of the albedo texture through the card correction set_card gave,
   // as at() takes it; all zero without a texture or a card.
@@ -108,6 +115,9 @@ class FibreMaterial {
 
  private:
   glm::vec3 sigma_a_from(const glm::vec3& albedo) const;
+  // A texel's (or the shaft's) albedo as the card correction takes it: scaled to the
+  // card, shifted by the calibration.
+  glm::vec3 target(const glm::vec3& texel) const;
   // The fibre for a texel's (or the shaft's) albedo `a`: a photo's texture through
   // the card correction and the layer mapping, else a's absorption.
   HairParams from_albedo(glm::vec3 a, float coverage, int layers) const;
@@ -118,6 +128,7 @@ class FibreMaterial {
   glm::vec3 constant_sigma_a_;
   std::optional<CardCorrection> card_;
   glm::vec3 texel_scale_{1.0f};  // 1 / the card per channel for an absolute texture
+  glm::vec3 shift_{0.0f};        // set_card's mean_gain as a shift of every texel
 };
 
 }  // namespace plumage

@@ -14,6 +14,7 @@
 #include "plumage/common/feather.h"
 #include "plumage/common/image.h"
 #include "plumage/generator/analysis/layout.h"
+#include "plumage/pipeline/colour_calibration.h"
 #include "plumage/pipeline/fidelity.h"
 #include "plumage/pipeline/photo_view.h"
 #include "plumage/renderer/dome_rig.h"
@@ -57,6 +58,7 @@ struct PhotoComparison {
   std::vector<MeasuredPanel> measured;  // as panels
   std::vector<RenderFidelity> fidelity;  // hair, substructure
   std::vector<InversionCounts> inversion;  // hair, substructure: how the texture's texels were inverted
+  std::vector<ColourCalibration> calibration;  // hair, substructure: their colour calibration
 };
 
 // `view` gives the sampling, lights, threads and the folder the feather's texture
@@ -67,7 +69,7 @@ struct PhotoComparison {
 // there (render_grid_for, render_spp_for) and then shown at panel size.
 PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, const FeatherLayout& picked,
                                    const Feather& feather, const DomeRig& rig, ViewSpec view, int size,
-                                   const FidelitySettings& settings = {});
+                                   const FidelitySettings& settings = {}, const CalibrationSettings& calibration = {});
 
 // photo | hair | substructure, labelled.
 Image comparison_image(const PhotoComparison& c);

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "plumage/generator/analysis/analyze.h"
+#include "plumage/pipeline/colour_calibration.h"
 #include "plumage/renderer/dome_rig.h"
 #include "plumage/renderer/feather_render.h"
 
@@ -24,6 +25,7 @@ struct PhotoToFeatherSettings {
   DomeRig rig;
   int size = 672;               // panels' longer side (pixels)
   bool fidelity_image = false;  // also write fidelity.png
+  CalibrationSettings calibration;  // of each render's colour against the photo's
 };
 
 // After each finished stage: its name, wall seconds and a one-line account.

@@ -1,0 +1,80 @@
+// Colour calibration by rendering (colour_calibration.h).
+#include "plumage/pipeline/colour_calibration.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "plumage/common/error.h"
+#include "plumage/pipeline/fidelity.h"
+
+namespace plumage {
+
+namespace {
+constexpr float kMaxStep = 4.0f;  // per probe, a channel's gain moves by at most this factor
+// A secant's slope against the ratio step's: an affine response whose floor (light
+// that never reaches the card) is up to 80 % of the render gives 0.2; a response
+// proportional to the gain gives 1.
+constexpr float kMinSecant = 0.2f, kMaxSecant = 2.0f;
+
+double mean_de(const glm::vec3& a, const glm::vec3& b) { return ciede2000(linear_rgb_to_lab(a), linear_rgb_to_lab(b)); }
+}  // namespace
+
+glm::vec3 next_gain(const std::vector<CalibrationProbe>& probes, const glm::vec3& photo_mean,
+                    const CalibrationSettings& settings) {
+  if (probes.empty()) throw Error("next_gain: no probe yet");
+  const CalibrationProbe& last = probes.back();
+  glm::vec3 g = last.gain;
+  for (int k = 0; k < 3; ++k) {
+    const float p = photo_mean[k], r = last.render_mean[k], g1 = last.gain[k];
+    if (!(r > 0.0f) || !std::isfinite(r) || !std::isfinite(p)) continue;
+    float want = g1 * p / r;  // the render as a multiple of the gain
+    if (probes.size() >= 2) {
+      const CalibrationProbe& prev = probes[probes.size() - 2];
+      const float dg = g1 - prev.gain[k], dr = r - prev.render_mean[k];
+      // Through the last two probes: render = r + slope (gain - g1).
+      // Taken only where its slope is within [kMinSecant, kMaxSecant] of the ratio
+      // step's (r / g1): a channel moved by its neighbours' gains (the clear fibre's
+      // albedo follows the texel's luminance) or across the inversion's clear ->
+      // medulla step gives secants that would throw the gain far off.
+      const float slope = dr / dg, ratio_slope = r / g1;
+      if (std::abs(dg) > 1e-6f * g1 && std::isfinite(slope) && slope >= kMinSecant * ratio_slope &&
+          slope <= kMaxSecant * ratio_slope)
+        want = g1 + (p - r) / slope;
+    }
+    want = std::clamp(want, g1 / kMaxStep, g1 * kMaxStep);
+    g[k] = std::clamp(want, settings.min_gain, settings.max_gain);
+  }
+  return g;
+}
+
+ColourCalibration calibrate_colour(const std::function<glm::vec3(const glm::vec3& gain)>& render_mean,
+                                   const glm::vec3& photo_mean, const CalibrationSettings& settings) {
+  ColourCalibration c;
+  glm::vec3 gain(1.0f);
+  for (int i = 0; i < settings.probes; ++i) {
+    CalibrationProbe probe;
+    probe.gain = gain;
+    probe.render_mean = render_mean(gain);
+    for (int k = 0; k < 3; ++k)  // a channel the render did not give counts as unreached
+      if (!std::isfinite(probe.render_mean[k])) probe.render_mean[k] = 0.0f;
+    probe.de2000 = mean_de(probe.render_mean, photo_mean);
+    c.probes.push_back(probe);
+    if (probe.de2000 <= settings.tolerance_de) {
+      c.gain = gain;
+      return c;
+    }
+    gain = next_gain(c.probes, photo_mean, settings);
+  }
+  // Converging (the last probe the closest yet): one step beyond it. Else (a step
+  // across the inversion's clear -> medulla threshold can throw a probe off) the
+  // closest probe's gain.
+  if (!c.probes.empty()) {
+    const auto closest = std::min_element(c.probes.begin(), c.probes.end(),
+                                          [](const CalibrationProbe& a, const CalibrationProbe& b) { return a.de2000 < b.de2000; });
+    if (closest != c.probes.end() - 1) gain = closest->gain;
+  }
+  c.gain = gain;
+  return c;
+}
+
+}  // namespace plumage
