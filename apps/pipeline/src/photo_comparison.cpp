@@ -65,6 +65,23 @@ std::vector<Panel> light_sequence_sheets(const Feather& feather, SceneOptions sc
 }
 
 namespace {
+// The grid calibration probes are traced on: they need the mean over the mask, not
+// its detail, so a render grid longer than kProbeSide pixels is coarsened by a whole
+// factor to at most that. Not below: on a coarse grid a feather's edge mixes with
+// the card, and where the render's silhouette is not the photo's (blue-jay F25's
+// downy plume, IoU 0.55) a probe on half the grid read ΔE00 1.1 darker than the
+// render it stood for.
+PhotoCrop probe_grid_for(const PhotoCrop& render_grid) {
+  constexpr int kProbeSide = 320;
+  const int longer = std::max(render_grid.width, render_grid.height);
+  const int coarser = std::max(1, (longer + kProbeSide - 1) / kProbeSide);
+  PhotoCrop g = render_grid;
+  g.px_per_panel_px *= coarser;
+  g.width = (render_grid.width + coarser - 1) / coarser;
+  g.height = (render_grid.height + coarser - 1) / coarser;
+  return g;
+}
+
 Bounds3f control_point_bounds(const Feather& feather) {
   Bounds3f b;
   for (const Curve& c : feather.curves)
@@ -107,34 +124,25 @@ PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, con
   // ring); a render's card is alone in its panel.
   const MeasuredPanel photo_measured = measure_panel(photo_panel, c.regions, settings, bg);
   c.measured.push_back(photo_measured);
-  // Probes need the mean over the mask, not its detail: a render grid longer than
-  // kProbeSide pixels is coarsened by a whole factor to at most that. Not below: on
-  // a coarse grid a feather's edge mixes with the card, and where the render's
-  // silhouette is not the photo's (blue-jay F25's downy plume, IoU 0.55) a probe on
-  // half the grid read ΔE00 1.1 darker than the render it stood for.
-  constexpr int kProbeSide = 320;
-  const int coarser = std::max(1, (std::max(c.render_grid.width, c.render_grid.height) + kProbeSide - 1) / kProbeSide);
-  PhotoCrop probe_grid = c.render_grid;
-  probe_grid.px_per_panel_px *= coarser;
-  probe_grid.width = (c.render_grid.width + coarser - 1) / coarser;
-  probe_grid.height = (c.render_grid.height + coarser - 1) / coarser;
-  // What a probe is held to: the photo seen through that same grid and measured over
-  // its own feather mask, so that a coarse pixel that mixes a thin feather's edge
-  // with the card does so in both (on blue-jay F25's downy plume the full-resolution
-  // photo's mean put a probe ΔE00 1.2 farther than the render it stood for).
-  const MeasuredPanel photo_on_probe_grid =
-      measure_panel(show_on_panel(crop_photo(photo, probe_grid), probe_grid, c.crop), c.regions, settings, bg);
-  const glm::vec3 photo_mean = compare_panels(photo_measured, photo_on_probe_grid, c.regions).feather.render_mean;
+  const PhotoCrop probe_grid = probe_grid_for(c.render_grid);
+  // Each mode's colour calibrated on its own scene (colour_calibration.h), then
+  // rendered; a feather without a photo texture has nothing to calibrate. A probe
+  // is held to the photo seen through its own grid, measured over the photo's
+  // feather mask, so that a coarse pixel mixes a feather's edge with the card in
+  // both alike.
+  CalibrationSettings cs = calibration;
+  if (feather.albedo.texture.empty()) cs.probes = 0;
+  glm::vec3 photo_mean(0.0f);
+  if (cs.probes > 0) {
+    const Image seen = show_on_panel(crop_photo(photo, probe_grid), probe_grid, c.crop);
+    photo_mean = compare_panels(photo_measured, measure_panel(seen, c.regions, settings, bg), c.regions).feather.render_mean;
+  }
   c.panels.push_back({std::move(photo_panel), "photo"});
   // Both scenes first: a bad substructure parameter fails before anything renders.
   so.mode = ShadingMode::Hair;
   const Scene hair(feather, so);
   so.mode = ShadingMode::Substructure;
   const Scene substructure(feather, so);
-  // Each mode's colour calibrated on its own scene (colour_calibration.h), then
-  // rendered; a feather without a photo texture has nothing to calibrate.
-  CalibrationSettings cs = calibration;
-  if (feather.albedo.texture.empty()) cs.probes = 0;
   for (const Scene* s : {&hair, &substructure}) {
     const Scene& scene = *s;
     const ShadingMode mode = scene.options().mode;
