@@ -402,6 +402,8 @@ TEST_F(HostileCli, CommandLineUsage) {
     cases.push_back({"generate --preset rock-dove-wing -o {o}/out.fcurves --preview-size " + std::string(v), 2});
   }
   cases.push_back({"generate --preset rock-dove-wing -o {o}/out.fcurves --preview-size 99999", 2});
+  for (const char* v : {"-1", "17", "x", "1.5"})
+    cases.push_back({"photo-to-feather {d}/photo.png -o {o}/ptf --calibrate " + std::string(v), 2});
   run_cases("usage", cases);
 }
 
