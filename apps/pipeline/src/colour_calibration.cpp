@@ -15,8 +15,6 @@ constexpr float kMaxStep = 4.0f;  // per probe, a channel's gain moves by at mos
 // that never reaches the card) is up to 80 % of the render gives 0.2; a response
 // proportional to the gain gives 1.
 constexpr float kMinSecant = 0.2f, kMaxSecant = 2.0f;
-
-double mean_de(const glm::vec3& a, const glm::vec3& b) { return ciede2000(linear_rgb_to_lab(a), linear_rgb_to_lab(b)); }
 }  // namespace
 
 glm::vec3 next_gain(const std::vector<CalibrationProbe>& probes, const glm::vec3& photo_mean,
@@ -57,7 +55,7 @@ ColourCalibration calibrate_colour(const std::function<glm::vec3(const glm::vec3
     probe.render_mean = render_mean(gain);
     for (int k = 0; k < 3; ++k)  // a channel the render did not give counts as unreached
       if (!std::isfinite(probe.render_mean[k])) probe.render_mean[k] = 0.0f;
-    probe.de2000 = mean_de(probe.render_mean, photo_mean);
+    probe.de2000 = ciede2000_linear_rgb(probe.render_mean, photo_mean);
     c.probes.push_back(probe);
     if (probe.de2000 <= settings.tolerance_de) {
       c.gain = gain;

@@ -68,6 +68,22 @@ double ciede2000(const glm::vec3& lab1, const glm::vec3& lab2) {
   return std::sqrt(l * l + c * c + h * h + RT * c * h);
 }
 
+double ciede2000_linear_rgb(const glm::vec3& rgb1, const glm::vec3& rgb2) {
+  return ciede2000(linear_rgb_to_lab(rgb1), linear_rgb_to_lab(rgb2));
+}
+
+glm::vec3 mean_over_mask(const Image& img, const std::vector<char>& mask) {
+  glm::dvec3 sum(0.0);
+  long n = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      if (mask[std::size_t(y) * img.width + x]) {
+        sum += glm::dvec3(img.rgb(x, y));
+        ++n;
+      }
+  return n > 0 ? glm::vec3(sum / double(n)) : glm::vec3(0.0f);
+}
+
 Image gaussian_blur(const Image& img, float sigma) {
   if (img.empty()) throw Error("blur: empty image");
   Image src(img.width, img.height, 3);
@@ -225,7 +241,7 @@ RenderFidelity compare_panels(const MeasuredPanel& photo, const MeasuredPanel& r
       const bool in_p = photo.feather[i], in_r = render.feather[i];
       if (!in_p && !in_r) continue;
       double de = 0;
-      if (in_p) de = ciede2000(linear_rgb_to_lab(photo.blurred.rgb(x, y)), linear_rgb_to_lab(render.blurred.rgb(x, y)));
+      if (in_p) de = ciede2000_linear_rgb(photo.blurred.rgb(x, y), render.blurred.rgb(x, y));
       for (Sums* s : {&sums[0], &sums[side]}) {
         s->both += in_p && in_r;
         s->either += 1;
@@ -250,7 +266,7 @@ RenderFidelity compare_panels(const MeasuredPanel& photo, const MeasuredPanel& r
     if (s.p > 0) {
       v.photo_mean = glm::vec3(s.photo_sum / double(s.p));
       v.render_mean = glm::vec3(s.render_sum / double(s.p));
-      v.mean_colour_de2000 = ciede2000(linear_rgb_to_lab(v.photo_mean), linear_rgb_to_lab(v.render_mean));
+      v.mean_colour_de2000 = ciede2000_linear_rgb(v.photo_mean, v.render_mean);
       v.pixel_de2000 = s.de_sum / double(s.p);
       const double n = s.ln;
       const double cov = s.lpr - s.lp * s.lr / n, vp = s.lpp - s.lp * s.lp / n, vr = s.lrr - s.lr * s.lr / n;
@@ -262,7 +278,7 @@ RenderFidelity compare_panels(const MeasuredPanel& photo, const MeasuredPanel& r
   f.feather = vane(sums[0]);
   f.left = vane(sums[1]);
   f.right = vane(sums[2]);
-  f.backdrop_de2000 = ciede2000(linear_rgb_to_lab(photo.backdrop), linear_rgb_to_lab(render.backdrop));
+  f.backdrop_de2000 = ciede2000_linear_rgb(photo.backdrop, render.backdrop);
   const long photo_edge = mask_perimeter(photo.feather, regions), render_edge = mask_perimeter(render.feather, regions);
   f.perimeter_ratio = photo_edge > 0 ? double(render_edge) / double(photo_edge) : 0.0;
   return f;
@@ -288,7 +304,7 @@ Image difference_picture(const MeasuredPanel& photo, const MeasuredPanel& render
   Image out(regions.width, regions.height, 3);
   for (int y = 0; y < regions.height; ++y)
     for (int x = 0; x < regions.width; ++x) {
-      const double de = ciede2000(linear_rgb_to_lab(photo.blurred.rgb(x, y)), linear_rgb_to_lab(render.blurred.rgb(x, y)));
+      const double de = ciede2000_linear_rgb(photo.blurred.rgb(x, y), render.blurred.rgb(x, y));
       const float t = float(std::min(de / 20.0, 1.0));
       glm::vec3 c(std::min(1.0f, 3 * t), std::clamp(3 * t - 1, 0.0f, 1.0f), std::clamp(3 * t - 2, 0.0f, 1.0f));
       if (!regions.at(x, y)) c *= 0.35f;

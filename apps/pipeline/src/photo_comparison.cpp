@@ -4,6 +4,7 @@
 #include "plumage/common/image.h"
 
 #include <algorithm>
+#include <array>
 
 #include <nlohmann/json.hpp>
 
@@ -30,29 +31,38 @@ Feather generate_from_layout(const FeatherLayout& layout, std::uint64_t seed, co
   return feather;
 }
 
+namespace {
+// The feather's two scenes, hair and substructure, both built before either
+// renders, so a bad substructure parameter fails before any time is spent.
+struct ModeScenes {
+  ModeScenes(const Feather& feather, SceneOptions options)
+      : hair(feather, with_mode(options, ShadingMode::Hair)),
+        substructure(feather, with_mode(options, ShadingMode::Substructure)) {}
+  static SceneOptions with_mode(SceneOptions o, ShadingMode mode) {
+    o.mode = mode;
+    return o;
+  }
+  std::array<const Scene*, 2> both() const { return {&hair, &substructure}; }
+  const Scene hair, substructure;
+};
+}  // namespace
+
 std::vector<Panel> render_both_modes(const Feather& feather, SceneOptions scene, const DomeRig& rig,
                                      const ViewSpec& view) {
-  scene.mode = ShadingMode::Hair;
-  const Scene hair(feather, scene);
-  scene.mode = ShadingMode::Substructure;
-  const Scene substructure(feather, scene);
+  const ModeScenes scenes(feather, scene);
   std::vector<Panel> panels;
-  panels.push_back({render_view(hair, rig, view), "hair"});
-  panels.push_back({render_view(substructure, rig, view), "substructure"});
+  for (const Scene* s : scenes.both()) panels.push_back({render_view(*s, rig, view), to_string(s->options().mode)});
   return panels;
 }
 
 std::vector<Panel> light_sequence_sheets(const Feather& feather, SceneOptions scene, const DomeRig& rig,
                                          const ViewSpec& view, int columns) {
-  // Both scenes first: a bad substructure parameter fails before anything renders.
-  scene.mode = ShadingMode::Hair;
-  const Scene hair(feather, scene);
-  scene.mode = ShadingMode::Substructure;
-  const Scene substructure(feather, scene);
+  const ModeScenes scenes(feather, scene);
   const std::vector<int> leds = parse_light_selection(view.lights, int(rig.leds.size()));
   if (leds.empty()) throw Error("--light-sequence with --lights none: no LED to switch on");
   std::vector<Panel> sheets;
-  for (const auto& [s, name] : {std::pair<const Scene*, std::string>{&hair, "hair"}, {&substructure, "substructure"}}) {
+  for (const Scene* s : scenes.both()) {
+    const std::string name = to_string(s->options().mode);
     std::vector<Panel> tiles;
     for (int led : leds) {
       ViewSpec one = view;
@@ -135,15 +145,11 @@ PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, con
   glm::vec3 photo_mean(0.0f);
   if (cs.probes > 0) {
     const Image seen = show_on_panel(crop_photo(photo, probe_grid), probe_grid, c.crop);
-    photo_mean = compare_panels(photo_measured, measure_panel(seen, c.regions, settings, bg), c.regions).feather.render_mean;
+    photo_mean = mean_over_mask(gaussian_blur(seen, settings.blur_sigma_px), photo_measured.feather);
   }
   c.panels.push_back({std::move(photo_panel), "photo"});
-  // Both scenes first: a bad substructure parameter fails before anything renders.
-  so.mode = ShadingMode::Hair;
-  const Scene hair(feather, so);
-  so.mode = ShadingMode::Substructure;
-  const Scene substructure(feather, so);
-  for (const Scene* s : {&hair, &substructure}) {
+  const ModeScenes scenes(feather, so);
+  for (const Scene* s : scenes.both()) {
     const Scene& scene = *s;
     const ShadingMode mode = scene.options().mode;
     ViewSpec probe = view;
@@ -156,12 +162,13 @@ PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, con
     probe.progress = false;
     const auto probe_mean = [&](const glm::vec3& gain) {
       probe.photo_gain = gain;
+      // Blurred as measure_panel blurs, averaged over the photo's mask as
+      // compare_panels averages (its render_mean), without the render's own mask.
       const Image shown = show_on_panel(render_view(scene, rig, probe), probe_grid, c.crop);
-      const MeasuredPanel m = measure_panel(shown, c.regions, settings);
-      return compare_panels(photo_measured, m, c.regions).feather.render_mean;
+      return mean_over_mask(gaussian_blur(shown, settings.blur_sigma_px), photo_measured.feather);
     };
-    ViewSpec v = view;
     c.calibration.push_back(calibrate_colour(probe_mean, photo_mean, cs));
+    ViewSpec v = view;
     v.photo_gain = c.calibration.back().gain;
     c.panels.push_back({show_on_panel(render_view(scene, rig, v), c.render_grid, c.crop), to_string(mode)});
     c.measured.push_back(measure_panel(c.panels.back().image, c.regions, settings));

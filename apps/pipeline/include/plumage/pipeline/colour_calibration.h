@@ -6,10 +6,11 @@
 // (how open its ribbons are, how much of its R lobe the camera sees, its shaft), so
 // its mean colour misses the photo's by ΔE00 1–4. Calibration renders cheap probes
 // of that very scene, measures their mean linear RGB inside the photo's feather
-// mask, and finds per channel the gain on the photo's texels (ViewSpec::photo_gain)
-// at which the render's mean equals the photo's: a secant search, since the
-// response is close to affine in the gain (a floor of light that never reaches the
-// card plus a slope).
+// mask, and finds per channel the gain on the photo texture's mean, applied as a
+// shift of every texel (ViewSpec::photo_gain, FibreMaterial::set_card), at which
+// the render's mean equals the photo's: a secant search, since the response is
+// close to affine in the gain (a floor of light that never reaches the card plus a
+// slope).
 #include <functional>
 #include <vector>
 

@@ -31,6 +31,8 @@ struct PanelRegions {
 glm::vec3 linear_rgb_to_lab(const glm::vec3& rgb);
 // CIE ΔE 2000 (Sharma, Wu & Dalal 2005) between two CIELAB colours.
 double ciede2000(const glm::vec3& lab1, const glm::vec3& lab2);
+// The same between two linear sRGB colours.
+double ciede2000_linear_rgb(const glm::vec3& rgb1, const glm::vec3& rgb2);
 
 // Per-channel median of the image's outermost `depth` rings of pixels, over those
 // for which keep(x, y, colour) holds; nothing when fewer than `min_count` do.
@@ -49,6 +51,10 @@ struct MeasuredPanel {
 };
 MeasuredPanel measure_panel(const Image& panel, const PanelRegions& regions, const FidelitySettings& settings,
                             std::optional<glm::vec3> backdrop = std::nullopt);
+
+// The mean of `img` (linear RGB) over the pixels where `mask` is 1 (0 when none
+// is): VaneFidelity's photo_mean and render_mean, summed the same way.
+glm::vec3 mean_over_mask(const Image& img, const std::vector<char>& mask);
 
 struct VaneFidelity {
   double iou = 0;                  // |photo ∩ render| / |photo ∪ render| over the feather masks
