@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "plumage/common/bspline.h"
+#include "plumage/common/interrupt.h"
 
 namespace plumage {
 
@@ -35,6 +36,7 @@ RibbonLayers::RibbonLayers(const Feather& feather) {
   std::vector<float> r;
   for (const Curve& c : feather.curves) {
     if (c.kind != CurveKind::Barb) continue;
+    check_interrupted();  // a few seconds for a large feather (more under a sanitizer): stop here on a signal
     ++id;
     // The barb as a polyline of points about a radius apart, each piece a capsule
     // (a B-spline segment bends little over one radius).

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "plumage/common/error.h"
+#include "plumage/common/interrupt.h"
 
 namespace plumage {
 
@@ -96,18 +97,22 @@ Image gaussian_blur(const Image& img, float sigma) {
   for (int i = -r; i <= r; ++i) sum += k[i + r] = std::exp(-0.5f * float(i * i) / (sigma * sigma));
   for (float& v : k) v /= sum;
   Image tmp(img.width, img.height, 3), out(img.width, img.height, 3);
-  for (int y = 0; y < img.height; ++y)
+  for (int y = 0; y < img.height; ++y) {
+    if (y % 64 == 0) check_interrupted();  // a photo-sized blur takes a while: stop here on a signal
     for (int x = 0; x < img.width; ++x) {
       glm::vec3 a(0);
       for (int i = -r; i <= r; ++i) a += k[i + r] * src.rgb(std::clamp(x + i, 0, img.width - 1), y);
       tmp.set_rgb(x, y, a);
     }
-  for (int y = 0; y < img.height; ++y)
+  }
+  for (int y = 0; y < img.height; ++y) {
+    if (y % 64 == 0) check_interrupted();
     for (int x = 0; x < img.width; ++x) {
       glm::vec3 a(0);
       for (int i = -r; i <= r; ++i) a += k[i + r] * tmp.rgb(x, std::clamp(y + i, 0, img.height - 1));
       out.set_rgb(x, y, a);
     }
+  }
   return out;
 }
 
