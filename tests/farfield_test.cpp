@@ -554,4 +554,43 @@ TEST(FarfieldCli, RenderFitsThenReadsThenRefitsDamagedFiles) {
   std::filesystem::remove_all(dir);
 }
 
+// The fit's patch as polylines (FarfieldFitSettings::polylines, the default) stands
+// for the B-spline patch: with the same sample streams, the transmittance agrees
+// within the binomial noise of its paths and the table within the two fits' own
+// split-half noise. The same comparison tells a patch with barbules 1.5x as thick.
+TEST(FarfieldFit, PolylinePatchMatchesTheBSplinePatch) {
+  const HairParams hp = material(0.3f);
+  FarfieldFitSettings s = small_fit(4096);
+  s.polylines = false;
+  const FarfieldModel spline = measure_farfield(dove_geometry(), &hp, s);
+  s.polylines = true;
+  const FarfieldModel poly = measure_farfield(dove_geometry(), &hp, s);
+  FarfieldGeometry thick_g = dove_geometry();
+  thick_g.params.barbule_radius *= 1.5f;
+  const FarfieldModel thick = measure_farfield(thick_g, &hp, s);
+  const auto differences = [&](const FarfieldModel& a, const FarfieldModel& b) {
+    double t_worst = 0, d2 = 0, f2 = 0;
+    for (int i = 0; i < a.bins.count(); ++i) {
+      const double T = 0.5 * (a.T[std::size_t(i)] + b.T[std::size_t(i)]);
+      const double sigma = std::sqrt(std::max(T * (1 - T), 1.0 / s.paths_per_bin) / s.paths_per_bin);
+      t_worst = std::max(t_worst, std::fabs(double(a.T[std::size_t(i)] - b.T[std::size_t(i)])) / sigma);
+    }
+    for (std::size_t k = 0; k < a.F.size(); ++k) {
+      const glm::dvec3 d = glm::dvec3(a.F[k] - b.F[k]), f = glm::dvec3(a.F[k] + b.F[k]) * 0.5;
+      d2 += glm::dot(d, d);
+      f2 += glm::dot(f, f);
+    }
+    return std::pair{t_worst, std::sqrt(d2 / f2)};
+  };
+  const double noise = std::max(spline.report.noise, poly.report.noise);
+  const auto [t_same, f_same] = differences(spline, poly);
+  EXPECT_LT(t_same, 4.0) << "transmittance, in binomial standard deviations";
+  EXPECT_LT(f_same, 1.5 * noise) << "the table's noise is " << noise;
+  const auto [t_thick, f_thick] = differences(poly, thick);
+  EXPECT_GT(t_thick, 4.0);
+  EXPECT_GT(f_thick, 1.5 * noise);
+  std::printf("  polylines vs B-splines: T %.2f sigma, F %.4f (noise %.4f); thicker barbules: T %.1f sigma, F %.4f\n",
+              t_same, f_same, noise, t_thick, f_thick);
+}
+
 }  // namespace plumage

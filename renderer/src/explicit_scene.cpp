@@ -1,9 +1,12 @@
 // Scene's explicit mode (DESIGN §4, docs/substructure.md "Explicit reference"):
 // every kept barb's ramus and barbules, built by explicit_geometry.h, as round
 // B-spline curves in one Embree geometry.
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "embree_device.h"
+#include "plumage/common/bspline.h"
 #include "plumage/common/stats.h"
 
 namespace plumage {
@@ -12,6 +15,34 @@ namespace {
 StatCounter g_explicit_curves("Explicit/Curves built (rami and barbules)");
 StatCounter g_explicit_segments("Explicit/Curve segments (Embree primitives)");
 StatCounter g_explicit_bytes("Explicit/Curve data (bytes, before Embree's BVH)");
+
+// A uniform cubic B-spline segment (four control points: x, y, z, radius) at u.
+glm::vec4 bspline_point(const glm::vec4* cp, float u) {
+  const auto b = CubicBSplineBasis::eval(u);
+  glm::vec4 p(0);
+  for (int i = 0; i < 4; ++i) p += float(b[i]) * cp[i];
+  return p;
+}
+
+// The fewest pieces (1, 2, 4, ... 64) whose polyline, checked at 16 points of each
+// piece, stays within kPolylineTolerance of the radius from the segment in
+// position and radius (SceneOptions::explicit_polylines).
+int polyline_pieces(const glm::vec4* cp) {
+  for (int pieces = 1;; pieces *= 2) {
+    float worst = 0, radius = 1e30f;
+    for (int k = 0; k < pieces; ++k) {
+      const float u0 = float(k) / float(pieces), u1 = float(k + 1) / float(pieces);
+      const glm::vec4 a = bspline_point(cp, u0), b = bspline_point(cp, u1);
+      for (int j = 0; j <= 16; ++j) {
+        const float t = float(j) / 16;
+        const glm::vec4 d = bspline_point(cp, u0 + t * (u1 - u0)) - (a + t * (b - a));
+        worst = std::max(worst, glm::length(glm::vec3(d)) + std::fabs(d.w));
+        radius = std::min(radius, std::max(bspline_point(cp, u0 + t * (u1 - u0)).w, 0.0f));
+      }
+    }
+    if (worst <= kPolylineTolerance * radius || pieces >= 64) return pieces;
+  }
+}
 
 }  // namespace
 
@@ -32,6 +63,32 @@ void Scene::build_explicit() {
   g_explicit_curves += std::int64_t(ex.fibres.size());
   g_explicit_segments += std::int64_t(ex.segments());
   g_explicit_bytes += std::int64_t(explicit_bytes_);
+  if (options_.explicit_polylines) {
+    barbs_.linear = true;
+    for (std::uint32_t fi = 0; fi < ex.fibres.size(); ++fi) {
+      const ExplicitFibre& f = ex.fibres[fi];
+      // One chain of vertices per fibre, so that each piece's neighbours are the
+      // vertices before and after it (RTCCurveFlags) and the joints are smooth.
+      const std::size_t first_piece = barbs_.indices.size();
+      barbs_.vertices.push_back(bspline_point(&ex.control_points[f.first_cp], 0.0f));
+      for (std::uint32_t s = 0; s < f.segments(); ++s) {
+        const glm::vec4* cp = &ex.control_points[f.first_cp + s];
+        const int pieces = polyline_pieces(cp);
+        for (int k = 1; k <= pieces; ++k) {
+          const auto start = std::uint32_t(barbs_.vertices.size() - 1);
+          barbs_.vertices.push_back(bspline_point(cp, float(k) / float(pieces)));
+          barbs_.indices.push_back(start);
+          barbs_.prims.push_back({f.barb, start, fi});
+        }
+      }
+      for (std::size_t k = first_piece; k < barbs_.indices.size(); ++k)
+        barbs_.flags.push_back(std::uint8_t((k > first_piece ? RTC_CURVE_FLAG_NEIGHBOR_LEFT : 0) |
+                                            (k + 1 < barbs_.indices.size() ? RTC_CURVE_FLAG_NEIGHBOR_RIGHT : 0)));
+    }
+    explicit_fibres_ = std::move(ex.fibres);
+    commit_curves(barbs_, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
+    return;
+  }
   barbs_.vertices = std::move(ex.control_points);
   for (std::uint32_t fi = 0; fi < ex.fibres.size(); ++fi) {
     const ExplicitFibre& f = ex.fibres[fi];

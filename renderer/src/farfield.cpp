@@ -32,7 +32,7 @@ void warn_once(const std::string& line) {
 }
 
 constexpr char kMagic[] = "plumage-farfield\n";
-constexpr std::uint32_t kVersion = 2;
+constexpr std::uint32_t kVersion = 3;
 
 StatCounter g_fits("Farfield/Tables fitted (gonioreflectometer runs)");
 StatCounter g_loaded("Farfield/Tables read from the disk cache");
@@ -307,10 +307,10 @@ std::string farfield_key(const FarfieldGeometry& g, const HairParams* m, const F
   char buf[512];
   std::snprintf(buf, sizeof buf,
                 "farfield v%u; period %.9g; has_barbules %d; ramus_radius %.9g; barbule_radius %.9g; elevation %.9g; "
-                "azimuth %.9g; hooked_fraction %.9g; ribbon_width %.9g; bins %dx%d; paths %d; depth %d; seed %u",
+                "azimuth %.9g; hooked_fraction %.9g; ribbon_width %.9g; bins %dx%d; paths %d; depth %d; seed %u; polylines %d",
                 kVersion, double(g.period), p.barbules_per_side > 0 ? 1 : 0, double(p.ramus_radius),
                 double(p.barbule_radius), double(p.elevation_deg), double(p.azimuth_deg), double(p.hooked_fraction),
-                double(p.ribbon_width), s.bins.nu, s.bins.nphi, s.paths_per_bin, s.max_depth, s.seed);
+                double(p.ribbon_width), s.bins.nu, s.bins.nphi, s.paths_per_bin, s.max_depth, s.seed, s.polylines ? 1 : 0);
   std::string key(buf);
   if (m) {
     std::snprintf(buf, sizeof buf, "; beta_m %.9g; beta_n %.9g; alpha %.9g; eta %.9g; sigma_a %.9g,%.9g,%.9g",

@@ -1,5 +1,6 @@
 // The virtual gonioreflectometer of the far-field barb model (farfield.h): a
-// straight explicit barb (ramus and barbules as round curves, explicit_geometry.h)
+// straight explicit barb (ramus and barbules as round fibres, explicit_geometry.h,
+// as polylines by default: FarfieldFitSettings::polylines)
 // lit by parallel light from each direction bin; every path is followed through
 // the structures with the hair BCSDF until it leaves, and where it leaves is binned.
 //
@@ -8,6 +9,14 @@
 // points of a window of the ribbon's plane, |w| <= W/2 and s within the middle of
 // the barb; the barb reaches kMargin beyond the window on both sides so that rays
 // at grazing angles meet the structures they would on a longer barb.
+//
+// Each bin's paths are two independent halves (even and odd paths), each an
+// Owen-scrambled Sobol sequence (sampler.h; the bin and half pick the scramble):
+// the first 4D pattern places the path (direction within the bin, point of the
+// window), each later one draws a bounce. The halves give the split-half noise;
+// the path's first ray, the one that crosses or meets the patch, also counts
+// toward the straight transmittance, so T and F come from the same paths and a
+// transmittance-only fit traces exactly the first rays of a BSDF fit.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -28,14 +37,6 @@ namespace {
 
 constexpr float kMargin = 1.5f;   // mm of barb beyond the window, each side
 constexpr float kHeight = 1.0f;   // mm: rays start this far from the plane, above every structure
-
-// Counter-based uniform numbers: stream (bin, path), dimension k.
-struct Stream {
-  std::uint32_t seed;
-  std::uint32_t k = 0;
-  float next() { return float(hash_combine(seed, k++) >> 8) * 0x1p-24f; }
-  glm::vec2 next2() { return {next(), next()}; }
-};
 
 // The patch: one straight barb of the right vane, its barbules at `period`.
 Feather patch_barb(const FarfieldGeometry& g, float* window_lo, float* window_hi) {
@@ -75,6 +76,7 @@ FarfieldModel measure_farfield(const FarfieldGeometry& g, const HairParams* mate
   const Feather patch = patch_barb(g, &lo, &hi);
   SceneOptions so;
   so.mode = ShadingMode::Explicit;
+  so.explicit_polylines = s.polylines;
   const Scene scene(patch, so);
   const float W = g.params.ribbon_width;
 
@@ -82,61 +84,55 @@ FarfieldModel measure_farfield(const FarfieldGeometry& g, const HairParams* mate
   m.bins = s.bins;
   const int n = s.bins.count();
   const float omega = s.bins.solid_angle();
-  // A ray from direction bin b at a uniform point of the window.
-  auto incident = [&](int b, Stream& rng) {
-    const glm::vec3 wi = s.bins.direction(b, rng.next2());
-    const glm::vec2 u = rng.next2();
-    const glm::vec3 p(lo + (hi - lo) * u.x, W * (u.y - 0.5f), 0);
-    Ray r;
-    r.o = p + kHeight / std::max(std::fabs(wi.z), 1e-3f) * wi;
-    r.d = -wi;
-    return r;
-  };
-
   std::vector<double> T(std::size_t(n), 0.0);
   std::vector<BinTally> tally(material ? std::size_t(n) : 0);
   tbb::task_arena arena(s.threads > 0 ? s.threads : tbb::task_arena::automatic);
   arena.execute([&] {
     tbb::parallel_for(0, n, [&](int b) {
       check_interrupted();  // SIGINT or SIGTERM: stop here, unwinding (interrupt.h)
-      // Straight transmittance: the share of rays that meet nothing.
+      BinTally* bt = material ? &tally[std::size_t(b)] : nullptr;
+      if (bt) {
+        bt->half[0].assign(std::size_t(n), glm::dvec3(0));
+        bt->half[1].assign(std::size_t(n), glm::dvec3(0));
+      }
+      PixelSampler px(SamplerKind::Sobol, s.seed);
       int through = 0;
       for (int k = 0; k < s.paths_per_bin; ++k) {
-        Stream rng{hash_combine(hash_combine(s.seed, std::uint32_t(b)), std::uint32_t(2 * k))};
+        px.start(b, k & 1, std::uint32_t(k >> 1));
+        const glm::vec4 u0 = px.next4();
+        const glm::vec3 wi = s.bins.direction(b, {u0.x, u0.y});
+        const glm::vec3 p0(lo + (hi - lo) * u0.z, W * (u0.w - 0.5f), 0);
+        Ray ray;
+        ray.o = p0 + kHeight / std::max(std::fabs(wi.z), 1e-3f) * wi;
+        ray.d = -wi;
         SurfaceHit hit;
-        if (!scene.intersect(incident(b, rng), hit)) ++through;
-      }
-      T[std::size_t(b)] = double(through) / s.paths_per_bin;
-      if (!material) return;
-      BinTally& bt = tally[std::size_t(b)];
-      bt.half[0].assign(std::size_t(n), glm::dvec3(0));
-      bt.half[1].assign(std::size_t(n), glm::dvec3(0));
-      for (int k = 0; k < s.paths_per_bin; ++k) {
-        Stream rng{hash_combine(hash_combine(s.seed, std::uint32_t(b)), std::uint32_t(2 * k + 1))};
-        Ray ray = incident(b, rng);
+        const bool met = scene.intersect(ray, hit);
+        if (!met) ++through;  // straight transmittance: the share of rays that meet nothing
+        if (!bt) continue;
+        ++bt->rays;
+        if (!met) continue;
         glm::vec3 beta(1);
-        SurfaceHit hit;
-        ++bt.rays;
-        if (!scene.intersect(ray, hit)) continue;  // counted in T
         for (int depth = 0; depth < s.max_depth; ++depth) {
           const glm::vec3 wo = -ray.d;
           const CurvePoint cp = scene.curve_point(hit);
           const FibreFrame ff = round_fibre_frame(cp.dp, wo, cp.p, cp.radius, hit.p);
           const glm::vec3 wo_local = ff.frame.to_local(wo);
           const HairBCSDF bcsdf(*material, ff.h, wo_local);
-          const auto smp = bcsdf.sample(wo_local, rng.next2(), rng.next2());
+          const glm::vec4 u = px.next4();
+          const auto smp = bcsdf.sample(wo_local, {u.x, u.y}, {u.z, u.w});
           if (!smp || !(smp->pdf > 0)) break;
           beta *= smp->f * (bcsdf_cos(smp->wi) / smp->pdf);
           if (!(beta.x > 0 || beta.y > 0 || beta.z > 0) || !std::isfinite(beta.x + beta.y + beta.z)) break;
           ray = scene.spawn(hit, glm::normalize(ff.frame.to_world(smp->wi)));
-          ++bt.rays;
+          ++bt->rays;
           if (!scene.intersect(ray, hit)) {
             const int O = s.bins.bin(ray.d);
-            if (O >= 0) bt.half[k & 1][std::size_t(O)] += glm::dvec3(beta);
+            if (O >= 0) bt->half[k & 1][std::size_t(O)] += glm::dvec3(beta);
             break;
           }
         }
       }
+      T[std::size_t(b)] = double(through) / s.paths_per_bin;
     });
   });
 

@@ -133,6 +133,9 @@ void Scene::commit_curves(CurveGeometry& g, int rtc_type) {
                              sizeof(glm::vec4), g.vertices.size());
   rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, g.indices.data(), 0,
                              sizeof(std::uint32_t), g.indices.size());
+  if (!g.flags.empty())
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_FLAGS, 0, RTC_FORMAT_UCHAR, g.flags.data(), 0,
+                               sizeof(std::uint8_t), g.flags.size());
   if (rtc_type == RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE) {
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, barb_normals_.data(), 0,
                                sizeof(glm::vec3), barb_normals_.size());

@@ -140,6 +140,10 @@ float Scene::curve_parameter(const SurfaceHit& hit) const {
 CurvePoint Scene::curve_point(const SurfaceHit& hit) const {
   const CurveGeometry* g = curve_geometry(hit.geom);
   const glm::vec4* cp = &g->vertices[g->prims[hit.prim].first_cp];
+  if (g->linear) {
+    const glm::vec4 p = cp[0] + hit.u * (cp[1] - cp[0]);
+    return {glm::vec3(p), glm::vec3(cp[1] - cp[0]), p.w};
+  }
   const auto b = CubicBSplineBasis::eval(hit.u);
   const auto db = CubicBSplineBasis::deriv(hit.u);
   glm::vec4 p(0), dp(0);

@@ -76,6 +76,10 @@ struct FarfieldFitSettings {
   int max_depth = 64;         // scattering events per path inside the patch
   std::uint32_t seed = 0x0ff1e1du;
   int threads = 0;            // 0 = all cores
+  // The patch's ramus and barbules as round linear pieces within 2 % of their
+  // radius of the B-splines (SceneOptions::explicit_polylines): about twice as fast
+  // to intersect, the table within its noise of the B-spline patch's.
+  bool polylines = true;
 };
 
 // What a fit found and how good it is (`--stats`, Farfield/...).

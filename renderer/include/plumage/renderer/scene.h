@@ -42,7 +42,17 @@ struct SceneOptions {
   ShadingMode mode = ShadingMode::Hair;
   BackdropSpec backdrop;
   SceneCull cull{};  // empty = every curve is built (culling is off by default)
+  // Explicit mode only: each fibre's cubic B-spline as a chain of Embree round
+  // linear pieces (cones joined by spheres) that stays within kPolylineTolerance of
+  // its radius from the curve, instead of Embree's round B-spline. Straight fibres
+  // (a straight barb's ramus and barbules) are exact and intersect about twice as
+  // fast; the far-field fit's patch uses it (farfield_fit.cpp).
+  bool explicit_polylines = false;
 };
+
+// How far (relative to the fibre's radius) an explicit polyline may stray from its
+// B-spline (SceneOptions::explicit_polylines).
+inline constexpr float kPolylineTolerance = 0.02f;
 
 class Scene {
  public:
@@ -116,6 +126,8 @@ class Scene {
     std::vector<glm::vec4> vertices;  // x, y, z, radius
     std::vector<std::uint32_t> indices;
     std::vector<Primitive> prims;
+    bool linear = false;  // two vertices per primitive (round linear), else four (cubic B-spline)
+    std::vector<std::uint8_t> flags;  // linear: per primitive, which neighbours it joins (RTCCurveFlags)
   };
   struct Embree;
 
