@@ -1,5 +1,5 @@
 // `plumage analyze`: photo -> layout.json (+ albedo textures, + overlay).
-#include "plumage/generator/analysis/analyze.h"
+#include "plumage/analysis/analyze.h"
 
 #include <algorithm>
 #include <cmath>

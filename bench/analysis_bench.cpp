@@ -8,7 +8,7 @@
 #include "shared_photos.h"
 
 #include "../tests/synthetic_feather.h"
-#include "plumage/generator/analysis/analyze.h"
+#include "plumage/analysis/analyze.h"
 
 namespace fs = std::filesystem;
 using namespace plumage;

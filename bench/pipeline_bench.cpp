@@ -9,7 +9,7 @@
 #include "shared_photos.h"
 
 #include "plumage/common/atomic_file.h"
-#include "plumage/generator/analysis/analyze.h"
+#include "plumage/analysis/analyze.h"
 #include "plumage/pipeline/photo_comparison.h"
 
 namespace fs = std::filesystem;

@@ -11,20 +11,13 @@
 # Exits non-zero on the first finding (crash, sanitizer report, hang > 10 s, an
 # exception other than plumage::Error, a broken round trip); the input that
 # triggered it is saved under $BUILD_DIR/findings/. docs/robustness.md explains.
-# Targets: fcurves, feather_params, and layout (the analysis layout reader) when
-# generator/include/plumage/generator/analysis/layout.h exists.
+# Targets: fcurves, feather_params, image, argv and layout (the layout.json reader).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 build=${BUILD_DIR:-build-fuzz}
 jobs=${JOBS:-$(nproc)}
-default_targets="fcurves feather_params image argv"
-if [[ -f generator/include/plumage/generator/analysis/layout.h ]]; then
-  default_targets+=" layout"
-else
-  # A checkout without photo analysis (tests/fuzz/CMakeLists.txt skips it too).
-  echo "fuzz.sh: analysis/layout.h not present yet: fuzz_layout skipped" >&2
-fi
+default_targets="fcurves feather_params image argv layout"
 targets=${TARGETS:-$default_targets}
 
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \

@@ -1,4 +1,4 @@
-// The albedo texture (generator/src/analysis/albedo.cpp): the photo over its
+// The albedo texture (analysis/src/albedo.cpp): the photo over its
 // paper, with the rachis painted out from the vane beside it. A narrow vane beside
 // a thick quill keeps its own colour: the painted band narrows toward the tip as the
 // built rachis does, and only texels wholly inside the feather fill it.
@@ -9,7 +9,7 @@
 #include <unistd.h>
 
 #include "plumage/common/image.h"
-#include "plumage/generator/analysis/analyze.h"
+#include "plumage/analysis/analyze.h"
 #include "synthetic_feather.h"
 
 using namespace plumage;

@@ -11,7 +11,7 @@
 
 #include "plumage/common/median.h"
 #include "plumage/common/image.h"
-#include "plumage/generator/analysis/analyze.h"
+#include "plumage/analysis/analyze.h"
 #include "plumage/generator/layout_to_params.h"
 #include "synthetic_feather.h"
 

@@ -1,11 +1,11 @@
-// The overlay's label placement (generator/src/analysis/label_placement.h): on a
+// The overlay's label placement (analysis/src/label_placement.h): on a
 // dense sheet, labels must not cover each other or the scale bar, and must stay
 // inside the image.
 #include <gtest/gtest.h>
 
 #include <climits>
 
-#include "analysis/label_placement.h"
+#include "label_placement.h"
 
 namespace plumage::analysis {
 namespace {

@@ -15,8 +15,8 @@
 #include <unistd.h>
 
 #include "plumage/common/image.h"
-#include "plumage/generator/analysis/analyze.h"
-#include "plumage/generator/analysis/layout.h"
+#include "plumage/analysis/analyze.h"
+#include "plumage/layout/layout.h"
 
 using namespace plumage;
 namespace fs = std::filesystem;

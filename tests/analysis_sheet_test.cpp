@@ -14,8 +14,8 @@
 #include "plumage/common/constants.h"
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
-#include "plumage/generator/analysis/analyze.h"
-#include "plumage/generator/analysis/layout.h"
+#include "plumage/analysis/analyze.h"
+#include "plumage/layout/layout.h"
 #include "synthetic_feather.h"
 
 using namespace plumage;

@@ -16,8 +16,8 @@
 #include "plumage/common/bspline.h"
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
-#include "plumage/generator/analysis/analyze.h"
-#include "plumage/generator/analysis/layout.h"
+#include "plumage/analysis/analyze.h"
+#include "plumage/layout/layout.h"
 #include "synthetic_feather.h"
 
 using namespace plumage;

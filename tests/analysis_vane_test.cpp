@@ -1,4 +1,4 @@
-// Vane measurements (generator/src/analysis/vane.cpp). Widths: a side counts as
+// Vane measurements (analysis/src/vane.cpp). Widths: a side counts as
 // present at a station where the photo's mask reaches past the rachis there. The
 // rachis narrows toward the tip, so a vane narrower than the quill is still
 // measured, with confidence, where the rachis beside it is thin. The downy base:
@@ -10,7 +10,7 @@
 #include <unistd.h>
 
 #include "plumage/common/image.h"
-#include "plumage/generator/analysis/analyze.h"
+#include "plumage/analysis/analyze.h"
 #include "synthetic_feather.h"
 
 using namespace plumage;

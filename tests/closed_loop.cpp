@@ -12,7 +12,7 @@
 #include "plumage/common/bspline.h"
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
-#include "plumage/generator/analysis/analyze.h"
+#include "plumage/analysis/analyze.h"
 #include "plumage/generator/builder.h"
 #include "plumage/generator/random.h"
 #include "plumage/renderer/camera.h"

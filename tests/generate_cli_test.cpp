@@ -14,7 +14,7 @@
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
 #include "plumage/common/bspline.h"
-#include "plumage/generator/analysis/layout.h"
+#include "plumage/layout/layout.h"
 #include "plumage/generator/builder.h"
 #include "plumage/generator/layout_to_params.h"
 #include "plumage/generator/presets.h"

@@ -18,7 +18,7 @@
 #include "plumage/common/constants.h"
 #include "plumage/common/error.h"
 #include "plumage/common/feather.h"
-#include "plumage/generator/analysis/analyze.h"
+#include "plumage/analysis/analyze.h"
 #include "plumage/generator/builder.h"
 #include "plumage/generator/layout_to_params.h"
 

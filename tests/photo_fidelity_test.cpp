@@ -16,7 +16,7 @@
 #include "plumage/common/error.h"
 #include "plumage/pipeline/fidelity.h"
 #include "plumage/pipeline/photo_view.h"
-#include "plumage/generator/analysis/analyze.h"
+#include "plumage/analysis/analyze.h"
 #include "plumage/generator/layout_to_params.h"
 #include "plumage/renderer/camera.h"
 #include "plumage/renderer/substructure.h"

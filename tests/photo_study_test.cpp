@@ -8,7 +8,7 @@
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
-#include "plumage/generator/analysis/analyze.h"
+#include "plumage/analysis/analyze.h"
 
 using namespace plumage;
 namespace fs = std::filesystem;

@@ -4,6 +4,12 @@
 #include <unistd.h>
 #include <gtest/gtest.h>
 
+#include <vector>
+
+#include <cstring>
+
+#include <set>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -224,6 +230,61 @@ TEST(SkipWork, RendererAndGeneratorDoNotUseOpenCV) {
   EXPECT_GT(opencv_references(analysis), 0);
   EXPECT_EQ(opencv_references(renderer), 0);
   EXPECT_EQ(opencv_references(generator), 0);
+}
+
+// A static library's symbols (demangled names), `undefined` or defined ones (code
+// and data, weak ones included).
+std::set<std::string> archive_symbols(const std::filesystem::path& archive, bool undefined) {
+  const std::string cmd = "nm -C " + std::string(undefined ? "--undefined-only" : "--defined-only") + " '" +
+                          archive.string() + "' 2>/dev/null";
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
+  std::set<std::string> names;
+  if (!pipe) return names;
+  char line[8192];
+  while (std::fgets(line, sizeof line, pipe.get())) {
+    std::string s(line);
+    if (!s.empty() && s.back() == '\n') s.pop_back();
+    // "ADDRESS T name" or "                 U name" (a member's "file.o:" header has no type).
+    const std::size_t type_at = s.empty() ? std::string::npos
+                                : s[0] == ' '  ? s.find_first_not_of(' ')
+                                               : s.find_first_not_of(' ', s.find(' '));
+    if (type_at == std::string::npos || type_at + 2 > s.size() || s[type_at + 1] != ' ') continue;
+    const char type = s[type_at];
+    if (!undefined && !std::strchr("TWVDBR", type)) continue;
+    names.insert(s.substr(type_at + 2));
+  }
+  return names;
+}
+
+// The arrows between the libraries run one way (docs/analysis.md, "Where the code
+// is"): photo analysis and the generator are peers that both use the layout
+// library (layout.json's types, reader, writer and rules), and neither uses a
+// symbol the other defines; the layout library uses neither.
+TEST(SkipWork, AnalysisAndGeneratorArePeersOverTheLayoutLibrary) {
+  const std::filesystem::path build = std::filesystem::path(PLUMAGE_CLI).parent_path();
+  const auto generator = build / "libplumage_generator.a", analysis = build / "libplumage_analysis.a",
+             layout = build / "libplumage_layout.a";
+  if (!std::filesystem::exists(generator) || !std::filesystem::exists(analysis) || !std::filesystem::exists(layout) ||
+      std::system("nm --version >/dev/null 2>&1"))
+    GTEST_SKIP() << "needs nm and the static libraries in " << build;
+  const auto uses = [](const std::set<std::string>& undefined, const std::set<std::string>& defined) {
+    std::vector<std::string> both;
+    for (const std::string& s : undefined)
+      if (defined.count(s)) both.push_back(s);
+    return both;
+  };
+  const auto gen_defs = archive_symbols(generator, false), ana_defs = archive_symbols(analysis, false),
+             lay_defs = archive_symbols(layout, false);
+  const auto gen_uses = archive_symbols(generator, true), ana_uses = archive_symbols(analysis, true),
+             lay_uses = archive_symbols(layout, true);
+  // The check can see a use: both read and write through the layout library.
+  EXPECT_FALSE(uses(ana_uses, lay_defs).empty());
+  EXPECT_FALSE(uses(gen_uses, lay_defs).empty());
+  const auto first = [](const std::vector<std::string>& v) { return v.empty() ? std::string() : v.front(); };
+  EXPECT_EQ(uses(ana_uses, gen_defs).size(), 0u) << "analysis uses the generator's " << first(uses(ana_uses, gen_defs));
+  EXPECT_EQ(uses(gen_uses, ana_defs).size(), 0u) << "the generator uses analysis's " << first(uses(gen_uses, ana_defs));
+  EXPECT_EQ(uses(lay_uses, gen_defs).size() + uses(lay_uses, ana_defs).size(), 0u)
+      << "the layout library uses " << first(uses(lay_uses, gen_defs)) << first(uses(lay_uses, ana_defs));
 }
 
 Image render_adaptive(const Scene& scene, int spp, std::uint64_t seed, bool adaptive, int threads) {

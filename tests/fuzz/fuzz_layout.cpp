@@ -7,7 +7,7 @@
 #include <typeinfo>
 
 #include "plumage/common/error.h"
-#include "plumage/generator/analysis/layout.h"
+#include "plumage/layout/layout.h"
 #include "fuzz_verdict.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "plumage/common/error.h"
-#include "plumage/generator/analysis/analyze.h"
+#include "plumage/analysis/analyze.h"
 
 namespace plumage {
 

@@ -13,13 +13,9 @@
 
 #include "plumage/common/feather.h"
 #include "plumage/generator/profile.h"
+#include "plumage/layout/rules.h"  // kMinShaftLengthMm, kMaxShaftLengthMm
 
 namespace plumage {
-
-// The shaft lengths a feather may have, calamus base to tip: the one rule the
-// parameter validator, the layout reader and the photo analysis share.
-inline constexpr double kMinShaftLengthMm = 1.0;
-inline constexpr double kMaxShaftLengthMm = 2000.0;
 
 struct ShaftParams {
   double length = 100;          // calamus base to tip, along the shaft

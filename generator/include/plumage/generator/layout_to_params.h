@@ -11,7 +11,8 @@
 
 #include "plumage/common/feather.h"
 #include "plumage/common/image.h"
-#include "plumage/generator/analysis/layout.h"
+#include "plumage/layout/layout.h"
+#include "plumage/layout/rules.h"
 #include "plumage/generator/feather_params.h"
 
 namespace plumage {
@@ -27,9 +28,6 @@ struct LayoutParams {
   // Values replaced because analysis was unsure of them, for a person to read.
   std::vector<std::string> warnings;
 };
-
-// Measurements with confidence below this are not trusted (docs/layout-format.md).
-inline constexpr double kLayoutMinConfidence = 0.5;
 
 // How fast a barb angle may fall along the shaft in a layout's feather: cot(theta
 // at the barb's end) rises by at most kMaxFan ds / W over ds of shaft, W the
@@ -83,24 +81,6 @@ struct BarbAngleFit {
 };
 BarbAngleFit barb_angles_along_shaft(const std::vector<double>& t, const std::vector<double>& angle_deg,
                                      const std::vector<double>& confidence, double calamus_t);
-
-// Barb spacing along the rachis (mm, each side) assumed for a feather of this
-// shaft length when the photo does not resolve its barbs (docs/analysis.md,
-// "Barb density": 0.25 mm + 0.2 % of the length, within [0.25, 0.75] mm).
-double barb_spacing_prior_mm(double length_mm);
-
-// One side's barb spacing, when the photo resolves its barbs (docs/analysis.md,
-// "Barb density"): the median of its stations trusted (confidence >=
-// kLayoutMinConfidence) above its downy base, when there are at least three of
-// them, the period spans at least 2.5 photo pixels, they agree (median absolute
-// deviation within 25 % of the median) and it is within a factor 4 of
-// barb_spacing_prior_mm. `refused` says which test failed, for a person; both
-// are empty when too few stations are trusted.
-struct BarbSpacingReading {
-  std::optional<double> mm;
-  std::string refused;
-};
-BarbSpacingReading resolved_barb_spacing(const FeatherLayout& layout, VaneSide side);
 
 // The gap between neighbouring barbs of one vane of a built feather: for each
 // barb, the distance from the middle of its control polygon to the next barb's,

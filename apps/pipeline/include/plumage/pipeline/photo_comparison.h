@@ -13,7 +13,7 @@
 
 #include "plumage/common/feather.h"
 #include "plumage/common/image.h"
-#include "plumage/generator/analysis/layout.h"
+#include "plumage/layout/layout.h"
 #include "plumage/pipeline/colour_calibration.h"
 #include "plumage/pipeline/fidelity.h"
 #include "plumage/pipeline/photo_view.h"

@@ -11,7 +11,7 @@
 #include <functional>
 #include <string>
 
-#include "plumage/generator/analysis/analyze.h"
+#include "plumage/analysis/analyze.h"
 #include "plumage/pipeline/colour_calibration.h"
 #include "plumage/renderer/dome_rig.h"
 #include "plumage/renderer/feather_render.h"

@@ -6,7 +6,7 @@
 #include <glm/glm.hpp>
 
 #include "plumage/common/image.h"
-#include "plumage/generator/analysis/layout.h"
+#include "plumage/layout/layout.h"
 #include "plumage/pipeline/fidelity.h"
 #include "plumage/renderer/backdrop.h"
 #include "plumage/renderer/camera.h"

@@ -8,7 +8,7 @@
 
 #include "label_placement.h"
 #include "plumage/common/constants.h"
-#include "plumage/generator/layout_to_params.h"
+#include "plumage/layout/rules.h"
 #include "steps.h"
 
 namespace plumage::analysis {

@@ -1,6 +1,6 @@
 // layout.json reader and writer (format: docs/layout-format.md).
 #include "plumage/common/feather.h"
-#include "plumage/generator/analysis/layout.h"
+#include "plumage/layout/layout.h"
 
 #include <algorithm>
 #include <cmath>

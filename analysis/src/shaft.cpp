@@ -147,7 +147,7 @@ std::vector<cv::Point2d> best_path(const cv::Mat& score, const cv::Mat& M, const
 // Tukey's biweight on the residuals from the previous round (scale: 4.685
 // times the residuals' MAD, at least one column). A stretch shorter than
 // `half` rows that leaves the line and comes back weighs nothing. This is the
-// scheme of smooth_along_shaft (layout_to_params.h), which is built for a few
+// scheme of smooth_along_shaft (generator/layout_to_params.h), which is built for a few
 // dozen stations (it sorts every reading by distance at every station); run on
 // 101 rows of the path with the same windows it moved 42 of the photo study's
 // 174 shafts by up to 12.5 mm, so it is not used here.

@@ -1,5 +1,5 @@
 #pragma once
-// The stages of photo analysis, private to generator/src/analysis (OpenCV types).
+// The stages of photo analysis, private to analysis/src (OpenCV types).
 // All pixel figures here are in working pixels (the photo after any downscale).
 #include <filesystem>
 #include <opencv2/core.hpp>
@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "plumage/common/bspline.h"
-#include "plumage/generator/analysis/layout.h"
+#include "plumage/layout/layout.h"
 
 namespace plumage::analysis {
 

@@ -1,7 +1,7 @@
 #pragma once
 // Photo analysis (DESIGN §8): a photograph of one feather, or a sheet of several,
 // to a Layout plus the images a person checks it with. OpenCV stays inside
-// generator/src/analysis; this interface speaks plumage::Image only.
+// analysis/src; this interface speaks plumage::Image only.
 #include <algorithm>
 #include <filesystem>
 #include <optional>
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "plumage/common/image.h"
-#include "plumage/generator/analysis/layout.h"
+#include "plumage/layout/layout.h"
 
 namespace plumage {
 

@@ -10,7 +10,7 @@
 
 #include "plumage/common/constants.h"
 #include "plumage/common/median.h"
-#include "plumage/generator/analysis/analyze.h"
+#include "plumage/analysis/analyze.h"
 #include "steps.h"
 
 namespace plumage::analysis {

@@ -1,6 +1,6 @@
 // Photo analysis driver: load, segment, scale, then per feather shaft, vanes,
 // albedo and the overlay; and the all-or-nothing writer of its outputs.
-#include "plumage/generator/analysis/analyze.h"
+#include "plumage/analysis/analyze.h"
 
 #include <algorithm>
 #include <chrono>
@@ -13,7 +13,7 @@
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
 #include "plumage/common/number_text.h"
-#include "plumage/generator/layout_to_params.h"
+#include "plumage/layout/rules.h"
 #include "steps.h"
 
 namespace plumage {
