@@ -534,24 +534,24 @@ TEST(Layout, RoundTripsAndRejectsBadContentWithItsPath) {
   };
   fails_with("{\n \"format\": \"plumage-layout\",\n  oops }", "bad.json:3:");
   fails_with("", "bad.json:1:");
-  fails_with(replaced("\"plumage-layout\"", "\"other\""), "/format");
-  fails_with(replaced("\"version\": 1", "\"version\": 2"), "/version");
-  fails_with(replaced("\"mm_per_px\": 0.1", "\"mm_per_px\": -1"), "/scale/mm_per_px");
-  fails_with(replaced("\"source\": \"given\"", "\"source\": \"guessed\""), "/scale/source");
+  fails_with(replaced("\"plumage-layout\"", "\"other\""), ": format: ");
+  fails_with(replaced("\"version\": 1", "\"version\": 2"), ": version: ");
+  fails_with(replaced("\"mm_per_px\": 0.1", "\"mm_per_px\": -1"), "scale.mm_per_px");
+  fails_with(replaced("\"source\": \"given\"", "\"source\": \"guessed\""), "scale.source");
   fails_with(replaced("\"touches_border\": false", "\"touches_border\": 0"),
-             "/feathers/0/touches_border");
+             "feathers[0].touches_border");
   fails_with(replaced("\"stations_t\": [", "\"stations_t\": [0.0001,"),
-             "/feathers/0/vanes/left/width_mm");
+             "feathers[0].vanes.left.width_mm");
   std::string many;
   for (std::size_t i = 0; i < plumage::kMaxLayoutStations; ++i) many += "0,";
-  fails_with(replaced("\"stations_t\": [", "\"stations_t\": [" + many), "/feathers/0/stations_t");
+  fails_with(replaced("\"stations_t\": [", "\"stations_t\": [" + many), "feathers[0].stations_t");
   fails_with(replaced("\"barb_angle_deg\": [", "\"barb_angle_deg\": [\"x\","),
-             "/feathers/0/vanes/left/barb_angle_deg");
+             "feathers[0].vanes.left.barb_angle_deg");
   fails_with(replaced("\"file\": \"f.feather1.albedo.png\"", "\"file\": \"../x.png\""),
-             "/feathers/0/albedo/file");
-  fails_with(replaced("\"feathers\": [", "\"feathers\": [] , \"x\": ["), "/feathers");
+             "feathers[0].albedo.file");
+  fails_with(replaced("\"feathers\": [", "\"feathers\": [] , \"x\": ["), ": feathers: ");
   fails_with(replaced("\"afterfeather_to_t\": 0", "\"afterfeather_to_t\": 1.5"),
-             "/feathers/0/vanes/left/afterfeather_to_t");
+             "feathers[0].vanes.left.afterfeather_to_t");
   // The downy base is optional (layouts written before it was measured): read as none.
   std::string old = text;
   for (std::size_t k; (k = old.find(",\n          \"afterfeather_to_t\": 0")) != std::string::npos;)

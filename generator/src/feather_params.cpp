@@ -11,6 +11,7 @@
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
 #include "plumage/common/json_file.h"
+#include "plumage/common/json_reader.h"
 #include "plumage/common/number_text.h"
 
 namespace plumage {
@@ -136,120 +137,56 @@ void validate(const FeatherParams& p, const std::string& source) {
 }
 
 // ---------------------------------------------------------------------------
-// JSON reading: every object is read through Reader, which remembers the keys it
-// consumed so that whatever is left over (a typo) is reported.
+// JSON reading: every object is read through Reader, over the project's
+// JsonReader (json_reader.h): a key present sets its setting, an absent one keeps
+// the default, and the keys left over in an object (a typo) are reported.
 namespace {
-
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> d(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) d[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t prev = d[0];
-    d[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t cur = d[j];
-      d[j] = std::min({d[j] + 1, d[j - 1] + 1, prev + (a[i - 1] != b[j - 1])});
-      prev = cur;
-    }
-  }
-  return d[b.size()];
-}
-
-const char* type_name(const json& v) { return v.type_name(); }
 
 class Reader {
  public:
-  Reader(const json& j, std::string path, const std::string& source) : j_(j), path_(std::move(path)), source_(source) {
-    if (!j_.is_object()) fail(path_.empty() ? "top level" : path_, std::string("expected an object {...}, got ") + type_name(j_));
-  }
+  explicit Reader(JsonReader j) : j_(std::move(j)) { j_.expect_object(); }
 
-  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-    throw Error(Location{source_}, key + ": " + what);
+  std::optional<JsonReader> find(const std::string& k) const { return j_.find(k); }
+  void number(const std::string& k, double& out) const {
+    if (const auto v = j_.find(k)) out = v->number();
   }
-  std::string key(const std::string& k) const { return path_.empty() ? k : path_ + "." + k; }
-
-  const json* find(const std::string& k) {
-    seen_.insert(k);
-    auto it = j_.find(k);
-    return it == j_.end() ? nullptr : &*it;
+  void number(const std::string& k, float& out) const {
+    if (const auto v = j_.find(k)) out = float(v->number());
   }
-
-  void number(const std::string& k, double& out) {
-    if (const json* v = find(k)) {
-      if (!v->is_number()) fail(key(k), std::string("expected a number, got ") + type_name(*v));
-      out = v->get<double>();
-    }
+  // Ranges are the validator's (validate); this only keeps an int an int.
+  void integer(const std::string& k, int& out) const {
+    if (const auto v = j_.find(k)) out = int(v->integer(-1000000000, 1000000000));
   }
-  void number(const std::string& k, float& out) {
-    double d = out;
-    number(k, d);
-    out = float(d);
+  void boolean(const std::string& k, bool& out) const {
+    if (const auto v = j_.find(k)) out = v->boolean();
   }
-  void integer(const std::string& k, int& out) {
-    if (const json* v = find(k)) {
-      if (!v->is_number_integer() && !(v->is_number_float() && std::floor(v->get<double>()) == v->get<double>()))
-        fail(key(k), std::string("expected an integer, got ") + (v->is_number() ? v->dump() : type_name(*v)));
-      const double d = v->get<double>();
-      if (d < -1e9 || d > 1e9) fail(key(k), "integer " + v->dump() + " is far out of range");
-      out = int(d);
-    }
+  void string(const std::string& k, std::string& out) const {
+    if (const auto v = j_.find(k)) out = v->string();
   }
-  void boolean(const std::string& k, bool& out) {
-    if (const json* v = find(k)) {
-      if (!v->is_boolean()) fail(key(k), std::string("expected true or false, got ") + type_name(*v));
-      out = v->get<bool>();
-    }
-  }
-  void string(const std::string& k, std::string& out) {
-    if (const json* v = find(k)) {
-      if (!v->is_string()) fail(key(k), std::string("expected a string, got ") + type_name(*v));
-      out = v->get<std::string>();
-    }
-  }
-  void profile(const std::string& k, Profile& out) {
-    const json* v = find(k);
+  void profile(const std::string& k, Profile& out) const {
+    const auto v = j_.find(k);
     if (!v) return;
-    const std::string kk = key(k);
-    if (!v->is_array()) fail(kk, std::string("expected an array of [position, value] pairs, got ") + type_name(*v));
+    if (!v->value().is_array()) v->fail(std::string("expected an array of [position, value] pairs, got ") + v->value().type_name());
     std::vector<glm::dvec2> knots;
-    for (std::size_t i = 0; i < v->size(); ++i) {
-      const json& e = (*v)[i];
-      if (!e.is_array() || e.size() != 2 || !e[0].is_number() || !e[1].is_number())
-        fail(kk + "[" + std::to_string(i) + "]", "expected [position, value] (two numbers), got " + e.dump());
-      knots.push_back({e[0].get<double>(), e[1].get<double>()});
+    for (const JsonReader& e : v->elements()) {
+      const json& pair = e.value();
+      if (!pair.is_array() || pair.size() != 2 || !pair[0].is_number() || !pair[1].is_number())
+        e.fail("expected [position, value] (two numbers), got " + pair.dump());
+      knots.push_back({pair[0].get<double>(), pair[1].get<double>()});
     }
     out = Profile(std::move(knots));
   }
-  void object(const std::string& k, const std::function<void(Reader&)>& body) {
-    if (const json* v = find(k)) {
-      Reader r(*v, key(k), source_);
+  void object(const std::string& k, const std::function<void(Reader&)>& body) const {
+    if (const auto v = j_.find(k)) {
+      Reader r(*v);
       body(r);
       r.finish();
     }
   }
-
-  // Unknown keys are errors, with the nearest known key suggested.
-  void finish() const {
-    for (auto it = j_.begin(); it != j_.end(); ++it) {
-      if (seen_.count(it.key())) continue;
-      std::string best;
-      std::size_t best_d = 4;
-      for (const auto& s : seen_) {
-        const std::size_t d = edit_distance(it.key(), s);
-        if (d < best_d) best_d = d, best = s;
-      }
-      std::string known;
-      for (const auto& s : seen_) known += (known.empty() ? "" : ", ") + s;
-      fail(key(it.key()), "unknown key" + (best.empty() ? std::string() : " (did you mean '" + best + "'?)") +
-                              "; known keys here: " + known);
-    }
-  }
+  void finish() const { j_.finish(); }
 
  private:
-  const json& j_;
-  std::string path_;
-  const std::string& source_;
-  std::set<std::string> seen_;
+  JsonReader j_;
 };
 
 void read_vane(Reader& r, VaneParams& v) {
@@ -295,7 +232,7 @@ json vane_json(const VaneParams& v) {
 
 FeatherParams params_from_json(const json& j, const std::string& source) {
   FeatherParams p = default_feather_params();
-  Reader r(j, "", source);
+  const Reader r{JsonReader(j, source)};
   r.string("name", p.name);
   r.string("description", p.description);
   r.object("shaft", [&](Reader& s) {
@@ -329,9 +266,9 @@ FeatherParams params_from_json(const json& j, const std::string& source) {
   });
   r.object("splits", [&](Reader& s) {
     s.integer("count", p.splits.count);
-    if (const json* v = s.find("seed")) {
-      if (!v->is_number_unsigned()) s.fail("splits.seed", "expected a non-negative integer, got " + v->dump());
-      p.splits.seed = v->get<std::uint64_t>();
+    if (const auto v = s.find("seed")) {
+      if (!v->value().is_number_unsigned()) v->fail("expected a non-negative integer, got " + v->value().dump());
+      p.splits.seed = v->value().get<std::uint64_t>();
     }
     s.number("gap", p.splits.gap);
     s.number("depth", p.splits.depth);
@@ -340,10 +277,11 @@ FeatherParams params_from_json(const json& j, const std::string& source) {
     s.number("angle_deg", p.jitter.angle_deg);
     s.number("spacing", p.jitter.spacing);
   });
-  if (const json* a = r.find("albedo")) {
-    if (!a->is_array() || a->size() != 3 || !(*a)[0].is_number() || !(*a)[1].is_number() || !(*a)[2].is_number())
-      r.fail("albedo", "expected [r, g, b] (three numbers in [0,1], linear), got " + a->dump());
-    p.albedo = {(*a)[0].get<float>(), (*a)[1].get<float>(), (*a)[2].get<float>()};
+  if (const auto a = r.find("albedo")) {
+    const json& v = a->value();
+    if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
+      a->fail("expected [r, g, b] (three numbers in [0,1], linear), got " + v.dump());
+    p.albedo = {v[0].get<float>(), v[1].get<float>(), v[2].get<float>()};
   }
   r.finish();
   validate(p, source);

@@ -10,6 +10,7 @@
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
 #include "plumage/common/json_file.h"
+#include "plumage/common/json_reader.h"
 #include "plumage/common/number_text.h"
 #include "plumage/common/text.h"
 
@@ -87,177 +88,100 @@ ojson profile(const VaneProfile& v) {
           {"afterfeather_to_t", v.afterfeather_to_t}};
 }
 
-// --- strict reading: every access names its JSON path -----------------------
+// --- strict reading: every value through JsonReader, which names its place ----
 
-struct Reader {
-  const std::string& source;
-  [[noreturn]] void fail(const std::string& path, const std::string& what) const {
-    throw Error(Location{source},
-                (path.empty() ? "/" : path) + ": " + what + " (see docs/layout-format.md)");
-  }
-  const json& member(const json& obj, const std::string& path, const char* key) const {
-    if (!obj.is_object()) fail(path, "expected an object");
-    auto it = obj.find(key);
-    if (it == obj.end()) fail(path, std::string("missing key \"") + key + "\"");
-    return *it;
-  }
-  // "[lo, hi]", ">= lo" or "<= hi", the ends as a person reads them.
-  static std::string allowed(double lo, double hi) {
-    std::string text = std::isinf(hi) ? ">= " : std::isinf(lo) ? "<= " : "[";
-    if (!std::isinf(lo)) text += num(lo);
-    if (!std::isinf(lo) && !std::isinf(hi)) text += ", ";
-    if (!std::isinf(hi)) text += num(hi);
-    if (!std::isinf(lo) && !std::isinf(hi)) text += "]";
-    return text;
-  }
-  double number(const json& j, const std::string& path, double lo = -INFINITY,
-                double hi = INFINITY) const {
-    if (!j.is_number()) fail(path, "expected a number");
-    const double v = j.get<double>();
-    if (!std::isfinite(v) || v < lo || v > hi) fail(path, "value " + num(v) + " is out of range; allowed " + allowed(lo, hi));
-    return v;
-  }
-  int integer(const json& j, const std::string& path, int lo, int hi) const {
-    if (!j.is_number_integer()) fail(path, "expected an integer");
-    const auto v = j.get<long long>();
-    if (v < lo || v > hi) fail(path, "value " + std::to_string(v) + " is out of range; allowed integers " + allowed(lo, hi));
-    return int(v);
-  }
-  std::string string(const json& j, const std::string& path) const {
-    if (!j.is_string()) fail(path, "expected a string");
-    return j.get<std::string>();
-  }
-  bool boolean(const json& j, const std::string& path) const {
-    if (!j.is_boolean()) fail(path, "expected true or false");
-    return j.get<bool>();
-  }
-  std::vector<double> numbers(const json& j, const std::string& path, std::size_t n,
-                              double lo = -INFINITY, double hi = INFINITY) const {
-    if (!j.is_array()) fail(path, "expected an array of numbers");
-    if (n != 0 && j.size() != n)
-      fail(path, "expected " + std::to_string(n) + " values, got " + std::to_string(j.size()));
-    std::vector<double> out;
-    for (std::size_t i = 0; i < j.size(); ++i)
-      out.push_back(number(j[i], path + "/" + std::to_string(i), lo, hi));
-    return out;
-  }
-  glm::dvec2 point(const json& j, const std::string& path) const {
-    const auto v = numbers(j, path, 2);
-    return {v[0], v[1]};
-  }
-  std::vector<glm::dvec2> points(const json& j, const std::string& path, std::size_t min_n) const {
-    if (!j.is_array() || j.size() < min_n)
-      fail(path, "expected an array of at least " + std::to_string(min_n) + " [x, y] points");
-    std::vector<glm::dvec2> out;
-    for (std::size_t i = 0; i < j.size(); ++i)
-      out.push_back(point(j[i], path + "/" + std::to_string(i)));
-    return out;
-  }
-  glm::dmat3x2 matrix(const json& j, const std::string& path) const {
-    if (!j.is_array() || j.size() != 2) fail(path, "expected a 2x3 matrix [[a,b,c],[d,e,f]]");
-    glm::dmat3x2 A;
-    for (int r = 0; r < 2; ++r) {
-      const auto row = numbers(j[r], path + "/" + std::to_string(r), 3);
-      for (int c = 0; c < 3; ++c) A[c][r] = row[c];
-    }
-    const double det = A[0][0] * A[1][1] - A[1][0] * A[0][1];
-    if (!(std::fabs(det) > 1e-12)) fail(path, "matrix is singular");
-    return A;
-  }
+glm::dvec2 point(const JsonReader& j) {
+  const auto v = j.numbers(2);
+  return {v[0], v[1]};
+}
 
-  VaneProfile vane(const json& j, const std::string& path, std::size_t n) const {
-    VaneProfile v;
-    v.width_mm = numbers(member(j, path, "width_mm"), path + "/width_mm", n, 0.0);
-    v.width_confidence =
-        numbers(member(j, path, "width_confidence"), path + "/width_confidence", n, 0, 1);
-    v.barb_angle_deg =
-        numbers(member(j, path, "barb_angle_deg"), path + "/barb_angle_deg", n, 0, 180);
-    v.barb_angle_confidence =
-        numbers(member(j, path, "barb_angle_confidence"), path + "/barb_angle_confidence", n, 0, 1);
-    v.barb_spacing_mm =
-        numbers(member(j, path, "barb_spacing_mm"), path + "/barb_spacing_mm", n, 0.0);
-    v.barb_spacing_confidence = numbers(member(j, path, "barb_spacing_confidence"),
-                                        path + "/barb_spacing_confidence", n, 0, 1);
-    // Optional: layouts written before the downy base was measured have none.
-    if (j.contains("afterfeather_to_t"))
-      v.afterfeather_to_t = number(j["afterfeather_to_t"], path + "/afterfeather_to_t", 0, 1);
-    return v;
+glm::dmat3x2 matrix(const JsonReader& j) {
+  const std::vector<JsonReader> rows = j.elements(2);
+  glm::dmat3x2 A;
+  for (int r = 0; r < 2; ++r) {
+    const auto row = rows[std::size_t(r)].numbers(3);
+    for (int c = 0; c < 3; ++c) A[c][r] = row[std::size_t(c)];
   }
+  const double det = A[0][0] * A[1][1] - A[1][0] * A[0][1];
+  if (!(std::fabs(det) > 1e-12)) j.fail("matrix is singular");
+  return A;
+}
 
-  FeatherLayout feather(const json& j, const std::string& p) const {
-    FeatherLayout f;
-    f.id = integer(member(j, p, "id"), p + "/id", 1, 1 << 20);
-    const auto bb = numbers(member(j, p, "bbox_px"), p + "/bbox_px", 4, 0.0, 1e9);
-    for (int i = 0; i < 4; ++i) {
-      if (bb[i] != std::floor(bb[i])) fail(p + "/bbox_px", "expected integers");
-      f.bbox_px[i] = int(bb[i]);
-    }
-    f.outline_px = points(member(j, p, "outline_px"), p + "/outline_px", 3);
-    const json& tr = member(j, p, "transform");
-    f.feather_from_image = matrix(member(tr, p + "/transform", "feather_from_image"),
-                                  p + "/transform/feather_from_image");
-    f.image_from_feather = matrix(member(tr, p + "/transform", "image_from_feather"),
-                                  p + "/transform/image_from_feather");
-    const json& sh = member(j, p, "shaft");
-    f.shaft_mm = BSpline2(
-        points(member(sh, p + "/shaft", "control_points_mm"), p + "/shaft/control_points_mm", 4));
-    f.length_mm = number(member(sh, p + "/shaft", "length_mm"), p + "/shaft/length_mm", 1e-9);
-    f.shaft_width_mm = number(member(sh, p + "/shaft", "width_mm"), p + "/shaft/width_mm", 0.0);
-    f.shaft_confidence =
-        number(member(sh, p + "/shaft", "confidence"), p + "/shaft/confidence", 0, 1);
-    if (sh.contains("seen_as_ridge"))
-      f.shaft_seen = number(sh["seen_as_ridge"], p + "/shaft/seen_as_ridge", 0, 1);
-    f.stations_t = numbers(member(j, p, "stations_t"), p + "/stations_t", 0, 0.0, 1.0);
-    if (f.stations_t.empty()) fail(p + "/stations_t", "expected at least one station");
-    // The analysis writes a few dozen; layout -> params smooths along them in
-    // O(n^2 log n), so a hand-made layout with very many would take minutes.
-    if (f.stations_t.size() > kMaxLayoutStations)
-      fail(p + "/stations_t", "at most " + std::to_string(kMaxLayoutStations) + " stations (this has " +
-                                  std::to_string(f.stations_t.size()) + "); resample the layout more coarsely");
-    for (std::size_t i = 1; i < f.stations_t.size(); ++i)
-      if (!(f.stations_t[i] > f.stations_t[i - 1])) fail(p + "/stations_t", "must increase");
-    const json& vanes = member(j, p, "vanes");
-    f.left = vane(member(vanes, p + "/vanes", "left"), p + "/vanes/left", f.stations_t.size());
-    f.right = vane(member(vanes, p + "/vanes", "right"), p + "/vanes/right", f.stations_t.size());
-    const json& al = member(j, p, "albedo");
-    const std::string ap = p + "/albedo";
-    f.albedo.file = string(member(al, ap, "file"), ap + "/file");
-    if (f.albedo.file.empty() || f.albedo.file.find('/') != std::string::npos)
-      fail(ap + "/file", "expected a file name next to layout.json (no directories)");
-    f.albedo.width_px = integer(member(al, ap, "width_px"), ap + "/width_px", 1, 1 << 16);
-    f.albedo.height_px = integer(member(al, ap, "height_px"), ap + "/height_px", 1, 1 << 16);
-    f.albedo.origin_mm = point(member(al, ap, "origin_mm"), ap + "/origin_mm");
-    f.albedo.mm_per_texel = number(member(al, ap, "mm_per_texel"), ap + "/mm_per_texel", 1e-9);
-    if (al.contains("scale")) {
-      f.albedo.scale = number(al.at("scale"), ap + "/scale", 1.0, kMaxAlbedoScale);
-    }
-    if (al.contains("shaft_rgb")) {
-      // [r, g, b] for the whole shaft, or [[r, g, b], ...] from the base to the tip.
-      const json& c = al.at("shaft_rgb");
-      const std::string cp = ap + "/shaft_rgb";
-      const auto colour = [&](const json& v, const std::string& vp) {
-        if (!v.is_array() || v.size() != 3) fail(vp, "expected [r, g, b]");
-        glm::dvec3 rgb;
-        for (int i = 0; i < 3; ++i) rgb[i] = number(v[std::size_t(i)], vp + "/" + std::to_string(i), 0.0, kMaxAlbedoScale);
-        return rgb;
-      };
-      if (!c.is_array() || c.empty()) fail(cp, "expected [r, g, b] or a list of them");
-      if (c[0].is_array()) {
-        if (c.size() > kMaxShaftColours)
-          fail(cp, "more than " + std::to_string(kMaxShaftColours) + " colours");
-        for (std::size_t k = 0; k < c.size(); ++k) f.albedo.shaft_rgb.push_back(colour(c[k], cp + "/" + std::to_string(k)));
-      } else {
-        f.albedo.shaft_rgb.push_back(colour(c, cp));
-      }
-    }
-    f.touches_border = boolean(member(j, p, "touches_border"), p + "/touches_border");
-    const json& w = member(j, p, "warnings");
-    if (!w.is_array()) fail(p + "/warnings", "expected an array of strings");
-    for (std::size_t i = 0; i < w.size(); ++i)
-      f.warnings.push_back(string(w[i], p + "/warnings/" + std::to_string(i)));
-    return f;
+VaneProfile read_vane(const JsonReader& j, std::size_t n) {
+  VaneProfile v;
+  v.width_mm = j.member("width_mm").numbers(n, 0.0);
+  v.width_confidence = j.member("width_confidence").numbers(n, 0, 1);
+  v.barb_angle_deg = j.member("barb_angle_deg").numbers(n, 0, 180);
+  v.barb_angle_confidence = j.member("barb_angle_confidence").numbers(n, 0, 1);
+  v.barb_spacing_mm = j.member("barb_spacing_mm").numbers(n, 0.0);
+  v.barb_spacing_confidence = j.member("barb_spacing_confidence").numbers(n, 0, 1);
+  // Optional: layouts written before the downy base was measured have none.
+  if (const auto a = j.find("afterfeather_to_t")) v.afterfeather_to_t = a->number(0, 1);
+  return v;
+}
+
+glm::dvec3 read_rgb(const JsonReader& j) {
+  const auto v = j.numbers(3, 0.0, kMaxAlbedoScale);
+  return {v[0], v[1], v[2]};
+}
+
+FeatherLayout read_feather(const JsonReader& j) {
+  FeatherLayout f;
+  f.id = int(j.member("id").integer(1, 1 << 20));
+  const JsonReader bbox = j.member("bbox_px");
+  const auto bb = bbox.numbers(4, 0.0, 1e9);
+  for (int i = 0; i < 4; ++i) {
+    if (bb[std::size_t(i)] != std::floor(bb[std::size_t(i)])) bbox.fail("expected integers");
+    f.bbox_px[i] = int(bb[std::size_t(i)]);
   }
-};
+  for (const JsonReader& p : j.member("outline_px").elements(0, 3)) f.outline_px.push_back(point(p));
+  const JsonReader tr = j.member("transform");
+  f.feather_from_image = matrix(tr.member("feather_from_image"));
+  f.image_from_feather = matrix(tr.member("image_from_feather"));
+  const JsonReader sh = j.member("shaft");
+  std::vector<glm::dvec2> control;
+  for (const JsonReader& p : sh.member("control_points_mm").elements(0, 4)) control.push_back(point(p));
+  f.shaft_mm = BSpline2(std::move(control));
+  f.length_mm = sh.member("length_mm").number(1e-9);
+  f.shaft_width_mm = sh.member("width_mm").number(0.0);
+  f.shaft_confidence = sh.member("confidence").number(0, 1);
+  if (const auto seen = sh.find("seen_as_ridge")) f.shaft_seen = seen->number(0, 1);
+  const JsonReader stations = j.member("stations_t");
+  f.stations_t = stations.numbers(0, 0.0, 1.0);
+  if (f.stations_t.empty()) stations.fail("expected at least one station");
+  // The analysis writes a few dozen; layout -> params smooths along them in
+  // O(n^2 log n), so a hand-made layout with very many would take minutes.
+  if (f.stations_t.size() > kMaxLayoutStations)
+    stations.fail("at most " + std::to_string(kMaxLayoutStations) + " stations (this has " +
+                  std::to_string(f.stations_t.size()) + "); resample the layout more coarsely");
+  for (std::size_t i = 1; i < f.stations_t.size(); ++i)
+    if (!(f.stations_t[i] > f.stations_t[i - 1])) stations.fail("must increase");
+  const JsonReader vanes = j.member("vanes");
+  f.left = read_vane(vanes.member("left"), f.stations_t.size());
+  f.right = read_vane(vanes.member("right"), f.stations_t.size());
+  const JsonReader al = j.member("albedo");
+  const JsonReader file = al.member("file");
+  f.albedo.file = file.string();
+  if (f.albedo.file.empty() || f.albedo.file.find('/') != std::string::npos)
+    file.fail("expected a file name next to layout.json (no directories)");
+  f.albedo.width_px = int(al.member("width_px").integer(1, 1 << 16));
+  f.albedo.height_px = int(al.member("height_px").integer(1, 1 << 16));
+  f.albedo.origin_mm = point(al.member("origin_mm"));
+  f.albedo.mm_per_texel = al.member("mm_per_texel").number(1e-9);
+  if (const auto scale = al.find("scale")) f.albedo.scale = scale->number(1.0, kMaxAlbedoScale);
+  if (const auto c = al.find("shaft_rgb")) {
+    // [r, g, b] for the whole shaft, or [[r, g, b], ...] from the base to the tip.
+    if (!c->value().is_array() || c->value().empty()) c->fail("expected [r, g, b] or a list of them");
+    if (c->value()[0].is_array()) {
+      for (const JsonReader& k : c->elements(0, 1, kMaxShaftColours)) f.albedo.shaft_rgb.push_back(read_rgb(k));
+    } else {
+      f.albedo.shaft_rgb.push_back(read_rgb(*c));
+    }
+  }
+  f.touches_border = j.member("touches_border").boolean();
+  for (const JsonReader& w : j.member("warnings").elements()) f.warnings.push_back(w.string());
+  return f;
+}
 
 }  // namespace
 
@@ -373,23 +297,23 @@ std::string layout_to_json(const Layout& L) {
 
 Layout parse_layout(const std::string& text, const std::string& source) {
   const json doc = parse_json(text, source);
-  const Reader r{source};
-  if (r.string(r.member(doc, "", "format"), "/format") != kFormat)
-    r.fail("/format", std::string("expected \"") + kFormat + "\"");
-  r.integer(r.member(doc, "", "version"), "/version", kVersion, kVersion);
+  const JsonReader top(doc, source, "see docs/layout-format.md");
+  const JsonReader format = top.member("format");
+  if (format.string() != kFormat) format.fail(std::string("expected \"") + kFormat + "\"");
+  top.member("version").integer(kVersion, kVersion);
   Layout L;
-  const json& im = r.member(doc, "", "image");
-  L.source_image = r.string(r.member(im, "/image", "file"), "/image/file");
-  L.image_width = r.integer(r.member(im, "/image", "width_px"), "/image/width_px", 1, 1 << 20);
-  L.image_height = r.integer(r.member(im, "/image", "height_px"), "/image/height_px", 1, 1 << 20);
-  L.analysis_downscale = r.number(r.member(im, "/image", "analysis_downscale"),
-                                  "/image/analysis_downscale", 1e-6, 1.0);
-  L.background = r.string(r.member(im, "/image", "background"), "/image/background");
-  if (L.background != "light" && L.background != "dark")
-    r.fail("/image/background", "expected \"light\" or \"dark\"");
-  const json& sc = r.member(doc, "", "scale");
-  L.scale.mm_per_px = r.number(r.member(sc, "/scale", "mm_per_px"), "/scale/mm_per_px", 1e-9, 1e6);
-  const std::string src = r.string(r.member(sc, "/scale", "source"), "/scale/source");
+  const JsonReader im = top.member("image");
+  L.source_image = im.member("file").string();
+  L.image_width = int(im.member("width_px").integer(1, 1 << 20));
+  L.image_height = int(im.member("height_px").integer(1, 1 << 20));
+  L.analysis_downscale = im.member("analysis_downscale").number(1e-6, 1.0);
+  const JsonReader background = im.member("background");
+  L.background = background.string();
+  if (L.background != "light" && L.background != "dark") background.fail("expected \"light\" or \"dark\"");
+  const JsonReader sc = top.member("scale");
+  L.scale.mm_per_px = sc.member("mm_per_px").number(1e-9, 1e6);
+  const JsonReader source_of_scale = sc.member("source");
+  const std::string src = source_of_scale.string();
   if (src == "given")
     L.scale.source = ScaleSource::Given;
   else if (src == "grid")
@@ -397,32 +321,25 @@ Layout parse_layout(const std::string& text, const std::string& source) {
   else if (src == "default")
     L.scale.source = ScaleSource::Default;
   else
-    r.fail("/scale/source", "expected \"given\", \"grid\" or \"default\"");
-  L.scale.confidence = r.number(r.member(sc, "/scale", "confidence"), "/scale/confidence", 0, 1);
-  L.scale.grid_period_px =
-      r.number(r.member(sc, "/scale", "grid_period_px"), "/scale/grid_period_px", 0);
-  L.scale.grid_mm = r.number(r.member(sc, "/scale", "grid_mm"), "/scale/grid_mm", 0);
-  const json& fs = r.member(doc, "", "feathers");
-  if (!fs.is_array() || fs.empty()) r.fail("/feathers", "expected a non-empty array of feathers");
-  for (std::size_t i = 0; i < fs.size(); ++i)
-    L.feathers.push_back(r.feather(fs[i], "/feathers/" + std::to_string(i)));
+    source_of_scale.fail("expected \"given\", \"grid\" or \"default\"");
+  L.scale.confidence = sc.member("confidence").number(0, 1);
+  L.scale.grid_period_px = sc.member("grid_period_px").number(0);
+  L.scale.grid_mm = sc.member("grid_mm").number(0);
+  for (const JsonReader& f : top.member("feathers").elements(0, 1)) L.feathers.push_back(read_feather(f));
   // Optional: layouts written before regions could be skipped have none.
-  if (doc.contains("skipped")) {
-    const json& sk = doc["skipped"];
-    if (!sk.is_array()) r.fail("/skipped", "expected an array of skipped regions");
-    for (std::size_t i = 0; i < sk.size(); ++i) {
-      const std::string p = "/skipped/" + std::to_string(i);
+  if (const auto sk = top.find("skipped"))
+    for (const JsonReader& r : sk->elements()) {
       SkippedRegion s;
-      s.id = r.integer(r.member(sk[i], p, "id"), p + "/id", 1, 1 << 20);
-      const auto bb = r.numbers(r.member(sk[i], p, "bbox_px"), p + "/bbox_px", 4, 0.0, 1e9);
-      for (int k = 0; k < 4; ++k) s.bbox_px[k] = int(bb[k]);
-      s.reason = r.string(r.member(sk[i], p, "reason"), p + "/reason");
+      s.id = int(r.member("id").integer(1, 1 << 20));
+      const auto bb = r.member("bbox_px").numbers(4, 0.0, 1e9);
+      for (int k = 0; k < 4; ++k) s.bbox_px[k] = int(bb[std::size_t(k)]);
+      const JsonReader reason = r.member("reason");
+      s.reason = reason.string();
       if (s.reason != "touches_border" && s.reason != "unseparated")
-        r.fail(p + "/reason", "expected \"touches_border\" or \"unseparated\"");
-      s.message = r.string(r.member(sk[i], p, "message"), p + "/message");
+        reason.fail("expected \"touches_border\" or \"unseparated\"");
+      s.message = r.member("message").string();
       L.skipped.push_back(std::move(s));
     }
-  }
   return L;
 }
 

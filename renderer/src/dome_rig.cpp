@@ -10,45 +10,42 @@
 #include "plumage/common/error.h"
 #include "plumage/common/install.h"
 #include "plumage/common/json_file.h"
+#include "plumage/common/json_reader.h"
 
 namespace plumage {
 namespace {
 
-glm::vec3 read_vec3_or_scalar(const nlohmann::json& j, const std::string& what, const std::string& file) {
-  if (j.is_number()) return glm::vec3(j.get<float>());
-  if (j.is_array() && j.size() == 3 && j[0].is_number() && j[1].is_number() && j[2].is_number())
-    return {j[0].get<float>(), j[1].get<float>(), j[2].get<float>()};
-  throw Error(Location{file}, "\"" + what + "\" must be a number or an array of 3 numbers");
+// A number (the same for x, y and z) or [x, y, z].
+glm::vec3 read_vec3_or_scalar(const JsonReader& j) {
+  if (j.value().is_number()) return glm::vec3(float(j.number()));
+  if (!j.value().is_array()) j.fail("expected a number or an array of 3 numbers");
+  const auto v = j.numbers(3);
+  return {float(v[0]), float(v[1]), float(v[2])};
 }
 
 }  // namespace
 
 DomeRig parse_dome_rig(const std::string& text, const std::string& file) {
-  const nlohmann::json j = parse_json(text, file);
-  if (!j.is_object()) throw Error(Location{file}, "a light rig is a JSON object with \"leds\"");
+  const nlohmann::json doc = parse_json(text, file);
+  const JsonReader top(doc, file, "see docs/rendering.md, \"The dome rig\"");
+  top.expect_object();
   DomeRig rig;
-  rig.name = j.value("name", std::string("rig"));
-  if (j.contains("led_radius")) {
-    if (!j["led_radius"].is_number()) throw Error(Location{file}, "\"led_radius\" must be a number (mm)");
-    rig.led_radius = j["led_radius"].get<float>();
+  rig.name = "rig";
+  if (const auto name = top.find("name")) rig.name = name->string();
+  if (const auto radius = top.find("led_radius")) {
+    rig.led_radius = float(radius->number());
+    if (!(rig.led_radius > 0)) radius->fail("expected a positive number of mm");
   }
-  if (!(rig.led_radius > 0) || !std::isfinite(rig.led_radius))
-    throw Error(Location{file}, "\"led_radius\" must be a positive number of mm");
-  if (j.contains("intensity")) rig.intensity = read_vec3_or_scalar(j["intensity"], "intensity", file);
-  if (!(rig.intensity.x >= 0 && rig.intensity.y >= 0 && rig.intensity.z >= 0) ||
-      !std::isfinite(rig.intensity.x + rig.intensity.y + rig.intensity.z))
-    throw Error(Location{file}, "\"intensity\" must be finite and non-negative (W/sr)");
-  if (!j.contains("leds") || !j["leds"].is_array() || j["leds"].empty())
-    throw Error(Location{file}, "\"leds\" must be a non-empty array of {\"position\": [x, y, z]}");
-  for (std::size_t i = 0; i < j["leds"].size(); ++i) {
-    const auto& led = j["leds"][i];
-    const std::string what = "leds[" + std::to_string(i) + "].position";
-    if (!led.is_object() || !led.contains("position"))
-      throw Error(Location{file}, "\"" + what + "\" is missing");
-    const glm::vec3 p = read_vec3_or_scalar(led["position"], what, file);
-    if (!std::isfinite(p.x + p.y + p.z)) throw Error(Location{file}, "\"" + what + "\" is not finite");
-    if (glm::length(p) <= rig.led_radius)
-      throw Error(Location{file}, "\"" + what + "\" lies within one LED radius of the rig centre (the feather)");
+  if (const auto intensity = top.find("intensity")) {
+    rig.intensity = read_vec3_or_scalar(*intensity);
+    if (!(rig.intensity.x >= 0 && rig.intensity.y >= 0 && rig.intensity.z >= 0))
+      intensity->fail("expected finite, non-negative values (W/sr)");
+  }
+  for (const JsonReader& led : top.member("leds").elements(0, 1)) {
+    const JsonReader position = led.member("position");
+    const glm::vec3 p = read_vec3_or_scalar(position);
+    if (!std::isfinite(p.x + p.y + p.z)) position.fail("is not finite");
+    if (glm::length(p) <= rig.led_radius) position.fail("lies within one LED radius of the rig centre (the feather)");
     rig.leds.push_back(p);
   }
   return rig;
