@@ -5,7 +5,7 @@
 
 #include <climits>
 
-#include "label_placement.h"
+#include "analysis/src/label_placement.h"
 
 namespace plumage::analysis {
 namespace {

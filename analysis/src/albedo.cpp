@@ -9,7 +9,9 @@
 
 #include "plumage/common/feather.h"
 #include "plumage/common/image.h"
-#include "steps.h"
+#include "albedo.h"
+#include "plumage/layout/layout.h"
+#include "segmentation.h"
 
 namespace plumage::analysis {
 namespace {

@@ -14,7 +14,13 @@
 #include "plumage/common/error.h"
 #include "plumage/common/number_text.h"
 #include "plumage/layout/rules.h"
-#include "steps.h"
+#include "albedo.h"
+#include "grid_scale.h"
+#include "overlay.h"
+#include "photo.h"
+#include "segmentation.h"
+#include "shaft.h"
+#include "vane.h"
 
 namespace plumage {
 namespace fs = std::filesystem;

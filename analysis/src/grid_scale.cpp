@@ -5,7 +5,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
-#include "steps.h"
+#include "grid_scale.h"
 
 namespace plumage::analysis {
 namespace {

@@ -9,7 +9,9 @@
 #include "label_placement.h"
 #include "plumage/common/constants.h"
 #include "plumage/layout/rules.h"
-#include "steps.h"
+#include "overlay.h"
+#include "grid_scale.h"
+#include "vane.h"
 
 namespace plumage::analysis {
 namespace {

@@ -4,7 +4,7 @@
 // the dip since the one before, so a flat top is one peak, not one per ripple.
 #include <algorithm>
 
-#include "steps.h"
+#include "peaks.h"
 
 namespace plumage::analysis {
 

@@ -9,7 +9,8 @@
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
-#include "steps.h"
+#include "photo.h"
+#include "luma.h"
 
 namespace plumage::analysis {
 namespace fs = std::filesystem;

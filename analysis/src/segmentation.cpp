@@ -11,7 +11,9 @@
 #include "plumage/common/constants.h"
 #include "plumage/common/median.h"
 #include "plumage/analysis/analyze.h"
-#include "steps.h"
+#include "segmentation.h"
+#include "luma.h"
+#include "peaks.h"
 
 namespace plumage::analysis {
 namespace {

@@ -10,7 +10,9 @@
 #include "plumage/common/constants.h"
 #include "plumage/common/error.h"
 #include "plumage/common/median.h"
-#include "steps.h"
+#include "shaft.h"
+#include "peaks.h"
+#include "segmentation.h"
 
 namespace plumage::analysis {
 namespace {

@@ -8,7 +8,9 @@
 
 #include "plumage/common/constants.h"
 #include "plumage/common/median.h"
-#include "steps.h"
+#include "vane.h"
+#include "plumage/layout/layout.h"
+#include "segmentation.h"
 
 namespace plumage::analysis {
 namespace {
