@@ -14,8 +14,10 @@
 #include "segmentation.h"
 #include "luma.h"
 #include "peaks.h"
+#include "thresholds.h"
 
 namespace plumage::analysis {
+using namespace thresholds::segmentation;
 namespace {
 
 // Median colour and luminance spread of a frame of pixels along the border.
@@ -71,7 +73,7 @@ cv::Mat filled(const std::vector<cv::Point>& contour, const cv::Rect& box) {
 // so the bounding box stays.
 void close_barb_gaps(Component& comp) {
   const cv::RotatedRect rr = cv::minAreaRect(comp.contour);
-  const int k = 2 * int(std::lround(0.0045 * std::max(rr.size.width, rr.size.height))) + 1;
+  const int k = 2 * int(std::lround(kBarbGapHalfDisc * std::max(rr.size.width, rr.size.height))) + 1;
   if (k < 3) return;
   cv::Mat padded;
   cv::copyMakeBorder(comp.mask, padded, k, k, k, k, cv::BORDER_CONSTANT, cv::Scalar(0));
@@ -92,11 +94,11 @@ void close_barb_gaps(Component& comp) {
 // they touch is below the level). Pieces under kMinPiece of the largest are
 // noise (a lobe of a split vane), not a second feather. Levels chosen on the
 // sheets in ../shared/photos (docs/analysis.md, "Sheets").
-constexpr double kCore = 0.6, kMinPiece = 0.15;
+
 // A single feather fills most of its convex hull (0.63-0.99 on those sheets); a
 // fan or a row of downy feathers on a string leaves the background between
 // them inside it.
-constexpr double kMinSolidity = 0.6;
+
 // The blob's distance transform and its core pieces (labels 1..n of `markers`,
 // CV_32S, mask-sized; 0 elsewhere); returns n (at least 1 for a non-empty mask).
 int core_markers(const cv::Mat& mask, cv::Mat& dt, cv::Mat& markers) {
@@ -104,7 +106,7 @@ int core_markers(const cv::Mat& mask, cv::Mat& dt, cv::Mat& markers) {
   markers = cv::Mat::zeros(mask.size(), CV_32S);
   double most = 0;
   cv::minMaxLoc(dt, nullptr, &most);
-  if (most < 2) return 1;
+  if (most < kMinCoreDepthPx) return 1;
   cv::Mat core = dt >= kCore * most, labels, stats, centroids;
   const int n = cv::connectedComponentsWithStats(core, labels, stats, centroids, 8, CV_32S);
   int largest = 0;
@@ -187,7 +189,6 @@ void flood_from_cores(const cv::Mat& mask, const cv::Mat& dt, cv::Mat& markers) 
 // Every piece must also fill at least kMinPieceSolidity of its hull, as a
 // feather does. Otherwise the result is empty. `cores` is the blob's
 // (find_cores); its markers are flooded in place.
-constexpr double kMinPieceSolidity = 0.6, kMaxCut = 0.5;
 std::vector<Component> separate(const Component& blob, Cores& cores, const cv::Size& image, double min_area) {
   const cv::Mat &padded = cores.mask, &dt = cores.dt;
   cv::Mat& markers = cores.markers;
@@ -288,8 +289,6 @@ std::vector<Component> separate(const Component& blob, Cores& cores, const cv::S
 // as it is wide across the row (those plumes 2.07-3.20; a plume cut from its
 // own downy base, where the direction found runs along one feather, 0.73-1.17;
 // tufts on a string 1.36-2.02, a row of them 0.73-2.13); otherwise nothing.
-constexpr int kRowAngles = 60;
-constexpr double kRowSmooth = 0.02, kRowProminence = 0.15, kMinPlumeAspect = 1.8, kBaseSide = 0.08;
 std::vector<Component> split_faint_row(const Component& region, const cv::Mat& own, const cv::Mat& dist,
                                        const cv::Size& image, double min_area) {
   struct Px {
@@ -305,8 +304,8 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
       if (m[x]) px.push_back({x, y, o[x] ? double(d[x]) : 0.0});
   }
   if (px.empty()) return {};
-  const double sigma = std::max(1.5, kRowSmooth * std::sqrt(double(cv::countNonZero(own))));
-  const int reach = int(std::ceil(3 * sigma));
+  const double sigma = std::max(kRowMinSigmaPx, kRowSmooth * std::sqrt(double(cv::countNonZero(own))));
+  const int reach = int(std::ceil(kRowKernelSigmas * sigma));
   std::vector<double> kernel(std::size_t(2 * reach + 1));
   for (int k = -reach; k <= reach; ++k) kernel[std::size_t(k + reach)] = std::exp(-0.5 * k * k / (sigma * sigma));
   struct Across {
@@ -413,7 +412,6 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
 // fluff joins them there), that region takes their place: cut along its row
 // into feathers (split_faint_row), or else reported as several feathers
 // (`faint_pieces`), never analysed as one invented from a patch.
-constexpr double kFaintP95 = 1.4;
 void join_faint_pieces(std::vector<Component>& feathers, const cv::Mat& dist, double threshold,
                        double half_level, const cv::Mat& open_k, const cv::Size& image, double min_area) {
   std::vector<char> faint(feathers.size(), 0);
@@ -429,12 +427,12 @@ void join_faint_pieces(std::vector<Component>& feathers, const cv::Mat& dist, do
         if (m[x]) v.push_back(d[x]);
     }
     if (v.empty()) continue;
-    auto p95 = v.begin() + std::ptrdiff_t(v.size() * 95 / 100);
+    auto p95 = v.begin() + std::ptrdiff_t(v.size() * kFaintPercentile / 100);
     std::nth_element(v.begin(), p95, v.end());
     faint[i] = *p95 < kFaintP95 * threshold;
     n_faint += faint[i];
   }
-  if (n_faint < 2) return;
+  if (n_faint < kMinFaintPieces) return;
   cv::Mat low, labels, stats, centroids;
   cv::threshold(dist, low, half_level, 255, cv::THRESH_BINARY);
   cv::morphologyEx(low, low, cv::MORPH_OPEN, open_k);
@@ -460,7 +458,7 @@ void join_faint_pieces(std::vector<Component>& feathers, const cv::Mat& dist, do
   std::vector<char> merged(std::size_t(n), 0);
   for (std::size_t i = 0; i < feathers.size(); ++i) {
     const auto j = std::size_t(joined[i]);
-    if (!faint[i] || j == 0 || faint_in[j] < 2 || other_in[j] > 0) {
+    if (!faint[i] || j == 0 || faint_in[j] < kMinFaintPieces || other_in[j] > 0) {
       kept.push_back(std::move(feathers[i]));
       continue;
     }
@@ -494,19 +492,14 @@ void join_faint_pieces(std::vector<Component>& feathers, const cv::Mat& dist, do
 // scan (darker toward the scanner's edge), so one border colour and one threshold
 // cut them off. Here a pixel is pale when it is lighter than the card *near it*
 // (a normalised Gaussian average of the card pixels, feathers left out) by
-// kPaleLevels grey levels and 4 sigma of the card's grain. A pale part goes to
+// kPaleLevels grey levels and 4 sigma (kPaleGrainSigmas) of the card's grain. A pale part goes to
 // the feather that lies along it (contact, below), split between feathers
 // that both do, so two white tips that touch never join their feathers; a pale
 // part no feather lies along is a feather of its own. `bin`: the feathers found
 // by colour (0/255), on return without the pale pixels; returns one label per
 // pixel (0 background), feathers numbered from 1, each label one feather.
-constexpr double kPaleLevels = 15.0, kCardBlur = 0.03;
-constexpr int kPaleRounds = 3, kSoftEdge = 4, kBridge = 8, kCardScale = 8;
-constexpr double kPaleFrame = 0.02, kCardWide = 4.0, kWideWeight = 0.05, kAloneLevels = 2.0;
-constexpr double kMinContact = 0.5, kMinBaseContact = 0.05, kBaseArea = 0.2, kOwnerArea = 0.25;
-// Cards this light or lighter leave no room for paler parts; dark cards have
+// Cards this light or lighter (kPaleCardMax) leave no room for paler parts; dark cards (kPaleCardMin) have
 // none lighter than the feather itself (its colour already stands out).
-constexpr double kPaleCardMin = 60.0, kPaleCardMax = 215.0;
 cv::Mat label_with_pale_parts(const cv::Mat& bgr, cv::Mat& bin, double sigma, const cv::Mat& open_k,
                               double min_area, cv::Mat& pale) {
   cv::Mat grey;
@@ -551,26 +544,26 @@ cv::Mat label_with_pale_parts(const cv::Mat& bgr, cv::Mat& bin, double sigma, co
     cv::resize(small_num, num, grey.size(), 0, 0, cv::INTER_LINEAR);
     cv::resize(small_den, den, grey.size(), 0, 0, cv::INTER_LINEAR);
     lighter = grey - num / cv::max(den, 1e-6);
-    cv::GaussianBlur(lighter, lighter, cv::Size(5, 5), 1.0);
+    cv::GaussianBlur(lighter, lighter, cv::Size(kLighterBlurKsize, kLighterBlurKsize), kLighterBlurSigma);
     // The card's own grain, from its pixels' spread about the local card (MAD):
     // the border's spread also counts the scanner's dark edge strip.
     std::vector<float> spread;
-    for (int y = 0; y < grey.rows; y += 2) {
+    for (int y = 0; y < grey.rows; y += kGrainStride) {
       const float* d = lighter.ptr<float>(y);
       const float* w = card_w.ptr<float>(y);
-      for (int x = 0; x < grey.cols; x += 2)
+      for (int x = 0; x < grey.cols; x += kGrainStride)
         if (w[x] > 0) spread.push_back(std::fabs(d[x]));
     }
     const double card_sigma = spread.empty() ? sigma : 1.4826 * median(std::move(spread));
-    level = std::max(kPaleLevels, 4.0 * card_sigma);
-    if (round + 1 < kPaleRounds) not_card = bin | (lighter > 0.5 * level);
+    level = std::max(kPaleLevels, kPaleGrainSigmas * card_sigma);
+    if (round + 1 < kPaleRounds) not_card = bin | (lighter > kNearPaleShare * level);
   }
-  pale = (lighter > level) & (den > 1e-4);
+  pale = (lighter > level) & (den > kMinCardWeight);
   cv::morphologyEx(pale, pale, cv::MORPH_OPEN, open_k);
   // A scan's edge has strips lighter and darker than the card (the scanner's lid
   // and glass): no pale part is looked for within kPaleFrame of the short side
   // of the photo's border.
-  const int frame = std::max(2, int(std::lround(kPaleFrame * std::min(bgr.cols, bgr.rows))));
+  const int frame = std::max(kPaleFrameMinPx, int(std::lround(kPaleFrame * std::min(bgr.cols, bgr.rows))));
   pale(cv::Rect(0, 0, pale.cols, std::min(frame, pale.rows))).setTo(0);
   pale(cv::Rect(0, std::max(0, pale.rows - frame), pale.cols, std::min(frame, pale.rows))).setTo(0);
   pale(cv::Rect(0, 0, std::min(frame, pale.cols), pale.rows)).setTo(0);
@@ -783,7 +776,6 @@ namespace {
 
 // Regions under kMinAreaShare of the photo, and under kMinAreaPx, are specks; the
 // area is the pixel count inside the outline, not its polygon (segment_feathers).
-constexpr double kMinAreaPx = 60.0, kMinAreaShare = 3e-4;
 
 // Writing is drawn in strokes far thinner than the letters are tall: an
 // opening with a disc kStrokeDisc of the mark's height leaves under
@@ -792,10 +784,8 @@ constexpr double kMinAreaPx = 60.0, kMinAreaShare = 3e-4;
 // spoonbill sheet, handwriting on the robin sheet); small feathers standing in
 // a row like a word (peregrine and robin sheets): 89-97 %. Text lines run across the photo, so the height
 // is the box's, and a letter "l" is as thin across as its stroke.
-constexpr double kStrokeDisc = 0.5, kStrokeSurvives = 0.5;
 // `disc`: the opening's diameter in pixels, letter_disc(mark) for a letter; print
 // too small to tell by its height, kPrintDisc.
-constexpr int kPrintDisc = 3;
 int letter_disc(const Component& mark) { return 2 * int(std::lround(0.5 * kStrokeDisc * mark.bbox.height)) + 1; }
 bool is_strokes(const cv::Mat& found, const Component& mark, int disc) {
   cv::Mat m = filled(mark.contour, mark.bbox);
@@ -815,7 +805,7 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   double sigma = 0;
   border_statistics(bgr, seg.background_bgr, sigma);
   const cv::Vec3d& bg = seg.background_bgr;
-  seg.dark_background = luma_bgr(bg) < 128;
+  seg.dark_background = luma_bgr(bg) < kDarkBackgroundLuma;
 
   // Distance to the background colour: the largest channel difference, so a
   // pale pink on white and a grey on black both stand out.
@@ -825,25 +815,25 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   cv::split(diff, ch);
   const cv::Mat sharp = cv::max(cv::max(ch[0], ch[1]), ch[2]);  // unblurred: small print's strokes stay apart
   cv::Mat dist;
-  cv::GaussianBlur(sharp, dist, cv::Size(5, 5), 1.0);
+  cv::GaussianBlur(sharp, dist, cv::Size(kDistBlurKsize, kDistBlurKsize), kDistBlurSigma);
 
   cv::Mat bin;
   const double otsu = cv::threshold(dist, bin, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
-  seg.threshold = std::max({otsu, 12.0, 4.0 * sigma});
+  seg.threshold = std::max({otsu, kMinThreshold, kBorderNoiseSigmas * sigma});
   cv::threshold(dist, bin, seg.threshold, 255, cv::THRESH_BINARY);
   seg.foreground = bin.clone();
 
   // Grid lines and hairline text are at most a couple of pixels wide: an
   // opening a little wider than that removes them and cuts feathers free.
-  const int k = 3 + 2 * (std::min(bgr.cols, bgr.rows) / 1500);
+  const int k = kOpenKsize + 2 * (std::min(bgr.cols, bgr.rows) / kOpenGrowPx);
   const cv::Mat open_k = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(k, k));
   cv::morphologyEx(bin, bin, cv::MORPH_OPEN, open_k);
 
   // Hysteresis: darker quill ends and downy bases, below Otsu's threshold but
   // joined to a feather, belong to it. The level is half the threshold, raised
   // to the border's noise (4 sigma) where that is higher.
-  const double half_level = std::max(0.5 * seg.threshold, 12.0);
-  const double low_threshold = std::max(half_level, 4.0 * sigma);
+  const double half_level = std::max(kHysteresisShare * seg.threshold, kMinLowThreshold);
+  const double low_threshold = std::max(half_level, kBorderNoiseSigmas * sigma);
   cv::Mat low;
   cv::threshold(dist, low, low_threshold, 255, cv::THRESH_BINARY);
   cv::morphologyEx(low, low, cv::MORPH_OPEN, open_k);
@@ -887,7 +877,7 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   std::vector<char> marginal;  // kept on its pixel count, its polygon under min_area
   for (auto& c : contours) {
     const double area = cv::contourArea(c);
-    if (area >= 12) marks.push_back(cv::boundingRect(c));
+    if (area >= kMinMarkArea) marks.push_back(cv::boundingRect(c));
     bool small = false;
     if (area < min_area) {
       // The polygon through the boundary pixels' centres leaves out half of every
@@ -898,7 +888,7 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
     }
     const cv::RotatedRect rr = cv::minAreaRect(c);
     const double len = std::max(rr.size.width, rr.size.height);
-    if (area / std::max(len, 1.0) < 3.0) continue;  // a line, not a vane
+    if (area / std::max(len, 1.0) < kMinThickness) continue;  // a line, not a vane
     Component comp;
     comp.bbox = cv::boundingRect(c);
     comp.area = area;
@@ -919,8 +909,6 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   // them into a blob). Small feathers on a sheet are stacked in
   // columns, or are taller than that in rows; a row of small feathers beside a
   // larger one stands like a word, but its vanes are not strokes.
-  constexpr double kMinRelativeArea = 0.005, kTextHeight = 0.06;
-  constexpr int kTextRun = 3;
   std::vector<char> text(kept.size(), 0);
   cv::Mat sharp_found;  // only where a region was kept on its pixel count
   if (std::find(marginal.begin(), marginal.end(), 1) != marginal.end()) sharp_found = sharp >= seg.threshold;
@@ -929,8 +917,8 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
     if (a.height > kTextHeight * bgr.rows) continue;
     auto same_line = [&](const cv::Rect& b) {
       const int overlap = std::min(a.br().y, b.br().y) - std::max(a.y, b.y);
-      return b.height <= 2 * a.height && a.height <= 2 * b.height &&
-             overlap >= 0.5 * std::min(a.height, b.height);
+      return b.height <= kLineHeightRatio * a.height && a.height <= kLineHeightRatio * b.height &&
+             overlap >= kLineOverlap * std::min(a.height, b.height);
     };
     // Walk the line both ways from this region.
     int run = 1;
@@ -941,7 +929,7 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
         for (const cv::Rect& b : marks) {
           if (b == a || b == cur || !same_line(b)) continue;
           const int gap = dir > 0 ? b.x - cur.br().x : cur.x - b.br().x;
-          if (gap >= -2 && gap <= 1.5 * std::max(a.height, b.height)) {
+          if (gap >= -kMarkOverlapPx && gap <= kMarkGap * std::max(a.height, b.height)) {
             cur = b, ++run, found = true;
             break;
           }
@@ -963,7 +951,6 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
     // its part that stands out by colour, as without them: white tips that
     // touch would otherwise join two feathers' cores. The pale parts then go
     // with the piece whose flood reaches them first.
-    constexpr double kSpottedSolidity = 0.85, kSpottedColour = 0.7;
     const int whole_cores = cores.n;
     const double whole_solidity = comp.solidity;
     bool judged_by_colour = false;

@@ -15,6 +15,7 @@
 #include "segmentation.h"
 
 namespace plumage::analysis {
+using namespace thresholds::shaft;
 namespace {
 
 // Principal axis of the mask (second moments): centre, unit axis e, normal n.
@@ -43,8 +44,8 @@ cv::Mat chevron_score(const cv::Mat& S, const cv::Mat& M, int tip_step) {
   cv::Scharr(g, gx, CV_32F, 1, 0);
   cv::Scharr(g, gy, CV_32F, 0, 1);
   cv::Mat jxy = gx.mul(gy), energy = gx.mul(gx) + gy.mul(gy);
-  cv::GaussianBlur(jxy, jxy, cv::Size(0, 0), 2.0);
-  cv::GaussianBlur(energy, energy, cv::Size(0, 0), 2.0);
+  cv::GaussianBlur(jxy, jxy, cv::Size(0, 0), kChevronIntegration);
+  cv::GaussianBlur(energy, energy, cv::Size(0, 0), kChevronIntegration);
   cv::Mat slant = 2 * jxy / (energy + 1e-3f);
   slant.setTo(0, M == 0);
   const int H = S.rows, W = S.cols;
@@ -121,7 +122,7 @@ std::vector<cv::Point2d> best_path(const cv::Mat& score, const cv::Mat& M, const
           cur[x] = NEG;
           continue;
         }
-        for (int dx = -2; dx <= 2; ++dx) {
+        for (int dx = -kMaxStep; dx <= kMaxStep; ++dx) {
           const int xp = x + dx;
           if (xp < 0 || xp >= W || prev[xp] == NEG) continue;
           const float v = prev[xp] - float(lambda * std::abs(dx));
@@ -146,7 +147,7 @@ std::vector<cv::Point2d> best_path(const cv::Mat& score, const cv::Mat& M, const
 // A smooth of a path's column against its row that a stretch of it away from
 // the rest does not pull: a running median over 2 half + 1 rows, then three
 // rounds of local linear fits (tricube window of `half` rows each side) with
-// Tukey's biweight on the residuals from the previous round (scale: 4.685
+// Tukey's biweight on the residuals from the previous round (scale: kBiweight
 // times the residuals' MAD, at least one column). A stretch shorter than
 // `half` rows that leaves the line and comes back weighs nothing. This is the
 // scheme of smooth_along_shaft (generator/layout_to_params.h), which is built for a few
@@ -167,9 +168,9 @@ std::vector<double> robust_smooth(const std::vector<cv::Point2d>& path, int half
     tricube[d] = v * v * v;
   }
   std::vector<double> robust(n), resid(n);
-  for (int round = 0; round < 3; ++round) {
+  for (int round = 0; round < kSmoothRounds; ++round) {
     for (int i = 0; i < n; ++i) resid[i] = std::fabs(path[i].x - fit[i]);
-    const double c = 4.685 * std::max(1.0, 1.4826 * median(resid));
+    const double c = kBiweight * std::max(1.0, 1.4826 * median(resid));
     for (int i = 0; i < n; ++i) {
       const double u = resid[i] / c;
       robust[i] = u < 1 ? (1 - u * u) * (1 - u * u) : 0.0;
@@ -203,7 +204,7 @@ std::vector<double> robust_smooth(const std::vector<cv::Point2d>& path, int half
 //    beside the rachis where it is hidden (a bar's edge, the colour boundary
 //    between the vanes) is left out.
 //  * The curve: a penalised least-squares cubic B-spline (fit_bspline_penalised,
-//    K = rows / 6 segments, 4 to 24) through the seen rows (weight 1) and, in
+//    K = rows / kRowsPerSegment segments, kMinSegments to kMaxSegments) through the seen rows (weight 1) and, in
 //    rows narrower than kNarrow of the widest (the bare quill, a pointed tip),
 //    the mask's middle (weight 12 / width^2, the inverse variance of a point
 //    spread evenly across the row; wider rows are left out, since over a narrow
@@ -219,14 +220,11 @@ struct RachisFit {
 };
 RachisFit fit_rachis(const std::vector<cv::Point2d>& path, const std::vector<double>& rho,
                      const std::vector<int>& lo, const std::vector<int>& hi, bool calamus_at_bottom) {
-  constexpr double kSeenRidge = 3.0, kGateMin = 2.0, kGateGrowth = 0.02, kStiffness = 1.0;
-  constexpr double kNarrow = 0.3, kInside = 1.5;
-  constexpr int kRunGap = 2, kMinRunRows = 5;
   const int n = int(path.size());
   std::vector<char> candidate(n), seen(n, 0);
   for (int i = 0; i < n; ++i) candidate[i] = rho[i] >= kSeenRidge;
   // The first long enough run of candidates from the calamus end; else the longest.
-  const int min_run = std::max(kMinRunRows, n / 10);
+  const int min_run = std::max(kMinRunRows, n / kMinRunShareDiv);
   auto row = [&](int k) { return calamus_at_bottom ? n - 1 - k : k; };
   int best_from = -1, best_to = -1, best_len = 0;
   for (int k = 0; k < n;) {
@@ -243,7 +241,7 @@ RachisFit fit_rachis(const std::vector<cv::Point2d>& path, const std::vector<dou
   }
   for (int k = best_from; k >= 0 && k <= best_to; ++k) seen[row(k)] = candidate[row(k)];
 
-  const int segments = std::clamp(n / 6, 4, 24);
+  const int segments = std::clamp(n / kRowsPerSegment, kMinSegments, kMaxSegments);
   const double lambda = kStiffness * n * std::pow(segments, 5) / std::pow(2 * kPi, 6);
   std::vector<glm::dvec3> pts(n);
   std::vector<double> t(n), w(n);
@@ -255,10 +253,10 @@ RachisFit fit_rachis(const std::vector<cv::Point2d>& path, const std::vector<dou
   std::vector<char> held(n, 0);
   RachisFit fit;
   fit.x.assign(n, 0.0);
-  for (int round = 0; round < 40; ++round) {
+  for (int round = 0; round < kMaxFitRounds; ++round) {
     for (int i = 0; i < n; ++i) {
       const double wm = widths[i] <= kNarrow * widest ? 12.0 / (widths[i] * widths[i]) : 0.0;
-      const double ws = seen[i] ? 1.0 : 0.0, wb = held[i] ? 1.0 : 0.0;
+      const double ws = seen[i] ? kSeenWeight : 0.0, wb = held[i] ? kHeldWeight : 0.0;
       w[i] = ws + wm + wb;
       const double x = w[i] > 0 ? (ws * path[i].x + wm * 0.5 * (lo[i] + hi[i]) + wb * bound[i]) / w[i] : path[i].x;
       pts[i] = glm::dvec3(x, 0.0, 0.0);
@@ -273,7 +271,7 @@ RachisFit fit_rachis(const std::vector<cv::Point2d>& path, const std::vector<dou
     for (int i = 0; i < n; ++i) {
       if (candidate[i] && !seen[i] && std::fabs(path[i].x - fit.x[i]) <= kGateMin + kGateGrowth * dist[i])
         seen[i] = 1, grew = true;
-      const double margin = std::min(kInside, 0.25 * (hi[i] - lo[i]));
+      const double margin = std::min(kInside, kInsideOfWidth * (hi[i] - lo[i]));
       if (!held[i] && (fit.x[i] < lo[i] + margin || fit.x[i] > hi[i] - margin)) {
         held[i] = 1, grew = true;
         bound[i] = fit.x[i] < lo[i] + margin ? lo[i] + margin : hi[i] - margin;
@@ -296,24 +294,25 @@ RachisFit fit_rachis(const std::vector<cv::Point2d>& path, const std::vector<dou
 void straighten_faded_tip(std::vector<cv::Point2d>& path, const cv::Mat& ridge, const cv::Mat& M,
                           int tip_step) {
   const int n = int(path.size());
-  if (n < 40) return;
+  if (n < kMinFadeRows) return;
   std::vector<float> along(n), smooth(n);
   for (int i = 0; i < n; ++i) along[i] = ridge.at<float>(int(path[i].y), int(path[i].x));
-  const int half = std::max(2, n / 100);
+  const int half = std::max(kFadeSmoothMin, n / kFadeSmoothDiv);
   for (int i = 0; i < n; ++i) {
     float s = 0;
     int c = 0;
     for (int k = std::max(0, i - half); k <= std::min(n - 1, i + half); ++k) s += along[k], ++c;
     smooth[i] = s / c;
   }
-  const float typical = median(std::vector<float>(along.begin() + n / 5, along.end() - n / 5));
+  const float typical =
+      median(std::vector<float>(along.begin() + n / kTypicalTrimDiv, along.end() - n / kTypicalTrimDiv));
   if (!(typical > 0)) return;
   // Index order from the tip inward.
   auto at = [&](int k) { return tip_step > 0 ? n - 1 - k : k; };
   int faded = 0;  // rows at the tip end where the ridge has faded
-  while (faded < n && smooth[at(faded)] < typical / 3) ++faded;
-  const int fit = std::max(10, n / 20);
-  if (faded < 3 || faded > n / 4) return;  // nothing to mend, or no rachis to trust
+  while (faded < n && smooth[at(faded)] < typical / kFadedRidgeDiv) ++faded;
+  const int fit = std::max(kFadeFitMin, n / kFadeFitDiv);
+  if (faded < kMinFadedRows || faded > n / kMaxFadedDiv) return;  // nothing to mend, or no rachis to trust
   // Least-squares line x = a + b y over the `fit` rows before the faded part.
   double sy = 0, sx = 0, syy = 0, sxy = 0;
   for (int k = faded; k < faded + fit; ++k) {
@@ -335,7 +334,7 @@ void straighten_faded_tip(std::vector<cv::Point2d>& path, const cv::Mat& ridge, 
   }
   // A line that leaves the mask well before its last row means the feather
   // itself curves there (a hooked tip): keep the traced path then.
-  if (kept > std::max(3, n / 100)) {
+  if (kept > std::max(kMaxBeyondRows, n / kMaxBeyondDiv)) {
     path = traced;
     return;
   }
@@ -352,18 +351,18 @@ void straighten_faded_tip(std::vector<cv::Point2d>& path, const cv::Mat& ridge, 
 struct CalamusEnd {
   bool at_bottom = false;  // at row r1
   bool known = false;      // false: the ends are alike by every cue (then the chevron's sign decides)
-  int run = 0;             // rows under 30 % of the widest at the calamus end (the bare quill)
+  int run = 0;             // rows under kRunWidth of the widest at the calamus end (the bare quill)
 };
 CalamusEnd calamus_end(const std::vector<int>& width, const cv::Mat& ridge, int r0, int r1,
                        std::optional<bool> base_at_bottom) {
   // The calamus end is the one with the longer run of rows where only the
   // bare quill is left (width well under the vane's). A rounded tip (a white
   // tip on a mid-grey card, where the quill's end may hide under a glue dot)
-  // can have the longer run under 30 % of the widest, but a quill is narrow
+  // can have the longer run under kRunWidth of the widest, but a quill is narrow
   // throughout: an end where at least kMinQuillRows rows, and half of its run
-  // under 30 %, are under 10 % of the widest is a quill; a rounded or pointed
-  // tip narrows gradually (a half disc: a tenth as many rows under 10 % as
-  // under 30 %; a straight taper: a third). When exactly one end is a quill, it
+  // under kRunWidth, are under kQuillWidth of the widest is a quill; a rounded or pointed
+  // tip narrows gradually (a half disc: a tenth as many rows under kQuillWidth as
+  // under kRunWidth; a straight taper: a third). When exactly one end is a quill, it
   // is the calamus.
   const int wmax = *std::max_element(width.begin(), width.end());
   auto run = [&](int from, int step, double below) {
@@ -371,11 +370,10 @@ CalamusEnd calamus_end(const std::vector<int>& width, const cv::Mat& ridge, int 
     for (int y = from; y >= r0 && y <= r1 && width[y] < below * wmax; y += step) ++k;
     return k;
   };
-  const int run_top = run(r0, +1, 0.3), run_bottom = run(r1, -1, 0.3);
-  const int quill_top = run(r0, +1, 0.1), quill_bottom = run(r1, -1, 0.1);
-  constexpr int kMinQuillRows = 3;
-  const bool top_is_quill = quill_top >= kMinQuillRows && 2 * quill_top >= run_top;
-  const bool bottom_is_quill = quill_bottom >= kMinQuillRows && 2 * quill_bottom >= run_bottom;
+  const int run_top = run(r0, +1, kRunWidth), run_bottom = run(r1, -1, kRunWidth);
+  const int quill_top = run(r0, +1, kQuillWidth), quill_bottom = run(r1, -1, kQuillWidth);
+  const bool top_is_quill = quill_top >= kMinQuillRows && kQuillRunDiv * quill_top >= run_top;
+  const bool bottom_is_quill = quill_bottom >= kMinQuillRows && kQuillRunDiv * quill_bottom >= run_bottom;
   CalamusEnd end;
   // Where the segmentation knows the base (a row of feathers joined there), it decides.
   if (base_at_bottom) {
@@ -389,13 +387,13 @@ CalamusEnd calamus_end(const std::vector<int>& width, const cv::Mat& ridge, int 
   // downy barbs widen a small feather's base; blue-jay sheet F12, F22), the run
   // rule is a guess. Two cues of the feather's shape then decide when they agree:
   // the rachis is strongest toward the calamus and tapers to the tip (the mean of
-  // each row's strongest ridge over the end fifth of the rows, at least 1.3
+  // each row's strongest ridge over the end fifth of the rows, at least kRidgeEndRatio
   // times the other end's), and a body feather is widest toward its tip (the
   // mask's area centroid along the axis lies on the tip's side of the middle).
   // Each alone disagrees with the run rule on many feathers the run rule gets
   // right (docs/analysis.md, step 4).
-  if (top_is_quill == bottom_is_quill && std::max(run_top, run_bottom) <= 0.06 * (r1 - r0)) {
-    const int end_rows = std::max(2, (r1 - r0) / 5);
+  if (top_is_quill == bottom_is_quill && std::max(run_top, run_bottom) <= kFewRunRows * (r1 - r0)) {
+    const int end_rows = std::max(kMinEndRows, (r1 - r0) / kEndRowsDiv);
     double ridge_top = 0, ridge_bottom = 0;
     for (int k = 0; k < end_rows; ++k) {
       double hi_top, hi_bottom;
@@ -406,8 +404,8 @@ CalamusEnd calamus_end(const std::vector<int>& width, const cv::Mat& ridge, int 
     double area = 0, moment = 0;
     for (int y = r0; y <= r1; ++y) area += width[y], moment += width[y] * double(y - r0) / (r1 - r0);
     const double centroid = moment / std::max(area, 1.0);  // 0: first row, 1: last
-    if (ridge_bottom >= 1.3 * ridge_top && centroid < 0.5) end.at_bottom = true, end.known = true;
-    if (ridge_top >= 1.3 * ridge_bottom && centroid > 0.5) end.at_bottom = false, end.known = true;
+    if (ridge_bottom >= kRidgeEndRatio * ridge_top && centroid < 0.5) end.at_bottom = true, end.known = true;
+    if (ridge_top >= kRidgeEndRatio * ridge_bottom && centroid > 0.5) end.at_bottom = false, end.known = true;
   }
   end.run = end.at_bottom ? run_bottom : run_top;
   return end;
@@ -423,14 +421,12 @@ CalamusEnd calamus_end(const std::vector<int>& width, const cv::Mat& ridge, int 
 // band across one quill, a downy tuft beside it, or a split at the base makes
 // a few such rows, or a narrow gap (docs/analysis.md, "Sheets").
 int quills_at_calamus(const cv::Mat& M, const std::vector<int>& width, int r0, int r1, bool calamus_at_bottom) {
-  constexpr int kMinGap = 4, kMinRows = 8;
-  constexpr double kMinStretch = 0.1, kMinGapOfWidest = 0.2;
   const int wmax = *std::max_element(width.begin() + r0, width.begin() + r1 + 1);
   int stretch = 0, longest = 0;
   std::vector<double> gaps, longest_gaps;
   for (int k = 0; k <= r1 - r0; ++k) {
     const int y = calamus_at_bottom ? r1 - k : r0 + k;
-    if (width[y] >= 0.5 * wmax) break;
+    if (width[y] >= kQuillZoneWidth * wmax) break;
     const uchar* m = M.ptr<uchar>(y);
     int gap = 0, last_end = -1;
     for (int x = 0; x < M.cols; ++x) {
@@ -473,12 +469,11 @@ std::vector<RowExtent> row_extents(const cv::Mat& M) {
 // row of small feathers mounted side by side on a string (one blob, its long axis
 // along the string) shows a tip for each feather along one side. Per row, the
 // mask's extent on each side of the frame's middle column, averaged over
-// 2 max(3, rows / 60) + 1 rows; a tip is a local maximum of it whose prominence
+// 2 max(kTipSmoothMin, rows / kTipSmoothDiv) + 1 rows; a tip is a local maximum of it whose prominence
 // (how far it stands above the higher of the lowest points reached on either
 // side before the profile rises above it again) is at least kTipProminence of the
 // largest extent on either side.
 int tips_along_a_side(const cv::Mat& M, int r0, int r1) {
-  constexpr double kTipProminence = 0.25;
   const int n = r1 - r0 + 1;
   const double middle = 0.5 * M.cols;
   const std::vector<RowExtent> extent = row_extents(M);
@@ -488,7 +483,7 @@ int tips_along_a_side(const cv::Mat& M, int r0, int r1) {
     left[y - r0] = std::max(0.0, middle - extent[y].lo);
     right[y - r0] = std::max(0.0, extent[y].hi - middle);
   }
-  const int half = std::max(3, n / 60);
+  const int half = std::max(kTipSmoothMin, n / kTipSmoothDiv);
   auto smooth = [&](const std::vector<double>& v) {
     std::vector<double> out(n, 0.0);
     for (int i = 0; i < n; ++i) {
@@ -518,8 +513,7 @@ struct Line {
   cv::Point2d p, normal;  // where, and across the line (the gradient's direction)
   double w;
 };
-std::vector<Line> coarse_lines(const cv::Mat& S, const cv::Mat& M, int widest, double blur = 1.0) {
-  constexpr double kIntegration = 0.05;
+std::vector<Line> coarse_lines(const cv::Mat& S, const cv::Mat& M, int widest, double blur = kLineBlur) {
   cv::Mat g, gx, gy;
   cv::cvtColor(S, g, cv::COLOR_BGR2GRAY);
   g.convertTo(g, CV_32F);
@@ -527,10 +521,10 @@ std::vector<Line> coarse_lines(const cv::Mat& S, const cv::Mat& M, int widest, d
   cv::Sobel(g, gx, CV_32F, 1, 0);
   cv::Sobel(g, gy, CV_32F, 0, 1);
   cv::Mat jxx = gx.mul(gx), jyy = gy.mul(gy), jxy = gx.mul(gy);
-  const double rho = std::max(1.5, kIntegration * widest);
+  const double rho = std::max(kMinIntegration, kIntegration * widest);
   for (cv::Mat* j : {&jxx, &jyy, &jxy}) cv::GaussianBlur(*j, *j, cv::Size(0, 0), rho);
   cv::Mat inner;
-  cv::erode(M, inner, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(5, 5)));
+  cv::erode(M, inner, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(kInnerKernel, kInnerKernel)));
   std::vector<Line> lines;
   for (int y = 0; y < M.rows; ++y)
     for (int x = 0; x < M.cols; ++x) {
@@ -559,7 +553,6 @@ std::vector<Line> coarse_lines(const cv::Mat& S, const cv::Mat& M, int widest, d
 // kMaxSpread degrees (weighted 10 %-90 % range; a point inside a single
 // feather, where lines along its axis point at it too, sees them all round).
 double fan_spread_deg(const std::vector<Line>& lines) {
-  constexpr double kMinAlignment = 0.92, kMinSpread = 30, kMaxSpread = 180;
   double a11 = 0, a12 = 0, a22 = 0, b1 = 0, b2 = 0;
   for (const Line& l : lines) {
     const cv::Point2d& n = l.normal;
@@ -568,7 +561,7 @@ double fan_spread_deg(const std::vector<Line>& lines) {
     b1 += l.w * n.x * pn, b2 += l.w * n.y * pn;
   }
   const double det = a11 * a22 - a12 * a12;
-  if (lines.size() < 50 || det <= 1e-9 * (a11 + a22) * (a11 + a22)) return 0;  // parallel lines: no point
+  if (lines.size() < kMinFanLines || det <= 1e-9 * (a11 + a22) * (a11 + a22)) return 0;  // parallel lines: no point
   const cv::Point2d c((a22 * b1 - a12 * b2) / det, (a11 * b2 - a12 * b1) / det);
   double aligned = 0, total = 0;
   cv::Point2d mean_bearing(0, 0);
@@ -594,7 +587,7 @@ double fan_spread_deg(const std::vector<Line>& lines) {
       if ((acc += w) >= q * total) return angle;
     return bearing.back().first;
   };
-  const double spread = (quantile(0.9) - quantile(0.1)) * 180 / kPi;
+  const double spread = (quantile(kSpreadHighQuantile) - quantile(kSpreadLowQuantile)) * 180 / kPi;
   return spread >= kMinSpread && spread <= kMaxSpread ? spread : 0;
 }
 
@@ -635,7 +628,6 @@ double share_along_axis(const std::vector<Line>& lines, const cv::Mat& on = cv::
 // downy tufts, 0.60, 88 deg) turn and robin F12 (0.47, 14 deg) does not; a drawn
 // round feather with streaky barbs reads 0.17-0.19, its dark outline on white
 // card weighing in all round (tests/analysis_test.cpp).
-constexpr double kMinLineStrength = 0.15;
 cv::Point2d doubled_angle_mean(const std::vector<Line>& lines) {
   double cx = 0, sx = 0, total = 0;
   for (const Line& l : lines) {
@@ -651,7 +643,6 @@ cv::Point2d doubled_angle_mean(const std::vector<Line>& lines) {
 // feathers whose resolved barbs or bars cross them), the shares over the region
 // and its rim at kAlongBlur of the widest row.
 void lines_along_axis(const cv::Mat& S, const cv::Mat& M, int widest, const std::vector<Line>& fine, Shaft& shaft) {
-  constexpr double kRim = 0.1;
   shaft.lines_along = share_along_axis(fine);
   if (shaft.lines_along >= kMaxLinesAlong) return;
   const std::vector<Line> coarse = coarse_lines(S, M, widest, std::max(1.0, kAlongBlur * widest));
@@ -671,7 +662,7 @@ Shaft trace_along(const cv::Mat& bgr, const Component& f, const cv::Point2d& c, 
     smin = std::min(smin, d.dot(e)), smax = std::max(smax, d.dot(e));
     tmin = std::min(tmin, d.dot(n)), tmax = std::max(tmax, d.dot(n));
   }
-  const int m = 4;
+  const int m = kFrameMargin;
   const int W = int(std::ceil(tmax - tmin)) + 2 * m, H = int(std::ceil(smax - smin)) + 2 * m;
   // Straightened frame S: column along n, row along e (S -> image).
   const cv::Point2d o = c + (tmin - m) * n + (smin - m) * e;
@@ -689,7 +680,7 @@ Shaft trace_along(const cv::Mat& bgr, const Component& f, const cv::Point2d& c, 
     width[y] = cv::countNonZero(M.row(y));
     if (width[y] > 0) r0 = std::min(r0, y), r1 = std::max(r1, y);
   }
-  if (r1 - r0 < 8) throw Error("feather too short to trace a shaft");
+  if (r1 - r0 < kMinShaftRows) throw Error("feather too short to trace a shaft");
 
   // A row of feathers needs no ridge: its outline says what it is.
   Shaft shaft;
@@ -716,11 +707,11 @@ Shaft trace_along(const cv::Mat& bgr, const Component& f, const cv::Point2d& c, 
   // smoothing along the axis so the slanted barbs blur away while the rachis stays.
   cv::Mat Sf;
   S.convertTo(Sf, CV_32FC3);
-  const double sy = std::max(2.0, 0.01 * H);
+  const double sy = std::max(kAlongSmoothMin, kAlongSmooth * H);
   cv::GaussianBlur(Sf, Sf, cv::Size(1, 2 * int(3 * sy) + 1), 0, sy);
   cv::Mat ridge(H, W, CV_32F, cv::Scalar(0));
-  const int dmax = std::max(3, int(0.02 * H));
-  for (int d = 2; d <= dmax; d = d < 4 ? d + 1 : int(d * 1.5))
+  const int dmax = std::max(kRidgeMaxOffsetMin, int(kRidgeMaxOffset * H));
+  for (int d = kRidgeMinOffset; d <= dmax; d = d < kRidgeStepFrom ? d + 1 : int(d * kRidgeGrowth))
     for (int y = 0; y < H; ++y) {
       const uchar* m = M.ptr<uchar>(y);
       const cv::Vec3f* s = Sf.ptr<cv::Vec3f>(y);
@@ -757,12 +748,12 @@ Shaft trace_along(const cv::Mat& bgr, const Component& f, const cv::Point2d& c, 
   // weighs 2r: at 4r it alone outweighed a strong rachis where barring rather than
   // barbs sets the slant (blue-jay tail feathers).
   const double mean_ridge = cv::mean(ridge, M)[0];
-  const double lambda = 0.5 * mean_ridge;
+  const double lambda = kMovePrice * mean_ridge;
   cv::Mat line;
   cv::log(1.0 + ridge / std::max(mean_ridge, 1e-6), line);
   line *= mean_ridge;
   const int tip_step = !calamus.known ? 0 : calamus_at_bottom ? -1 : +1;
-  const cv::Mat score = line + 4.0 * lambda * chevron_score(S, M, tip_step);
+  const cv::Mat score = line + kChevronWeight * lambda * chevron_score(S, M, tip_step);
   std::vector<cv::Point2d> rows_path = best_path(score, M, width, r0, r1, lambda, {}, 0);
   // A rachis is smooth, but where a second line runs beside it (a pale inner
   // vane's edge, a bar's border) the best path may leave it for a stretch and
@@ -772,8 +763,9 @@ Shaft trace_along(const cv::Mat& bgr, const Component& f, const cv::Point2d& c, 
   std::vector<int> widths;
   for (int y = r0; y <= r1; ++y)
     if (width[y] > 0) widths.push_back(width[y]);
-  const double corridor = std::max(3.0, 0.1 * median(widths));
-  const std::vector<double> centre = robust_smooth(rows_path, std::max(10, int(rows_path.size()) / 4));
+  const double corridor = std::max(kCorridorMin, kCorridor * median(widths));
+  const std::vector<double> centre =
+      robust_smooth(rows_path, std::max(kSmoothHalfMin, int(rows_path.size()) / kSmoothHalfDiv));
   bool strays = false;
   for (std::size_t i = 0; i < rows_path.size(); ++i) strays |= std::fabs(rows_path[i].x - centre[i]) > corridor;
   if (strays) rows_path = best_path(score, M, width, r0, r1, lambda, centre, corridor);
@@ -795,7 +787,7 @@ Shaft trace_along(const cv::Mat& bgr, const Component& f, const cv::Point2d& c, 
     return fit_rachis(p, rho, lo, hi, calamus_at_bottom);
   };
   const RachisFit first = rachis(rows_path);
-  rows_path = best_path(score, M, width, r0, r1, lambda, first.x, std::max(2.0, 0.05 * median(widths)));
+  rows_path = best_path(score, M, width, r0, r1, lambda, first.x, std::max(kRetraceMin, kRetrace * median(widths)));
   const RachisFit fitted = rachis(rows_path);
   for (std::size_t i = 0; i < rows_path.size(); ++i) rows_path[i].x = fitted.x[i];
   shaft.seen = fitted.seen;
@@ -804,7 +796,7 @@ Shaft trace_along(const cv::Mat& bgr, const Component& f, const cv::Point2d& c, 
 
   straighten_faded_tip(rows_path, ridge, M, calamus_at_bottom ? -1 : +1);
 
-  const int step = std::max(1, (r1 - r0) / 200);
+  const int step = std::max(1, (r1 - r0) / kPathSamples);
   std::vector<cv::Point2d> sampled;
   for (int i = 0; i < int(rows_path.size()); i += step) sampled.push_back(rows_path[i]);
   if (sampled.back() != rows_path.back()) sampled.push_back(rows_path.back());
@@ -817,13 +809,13 @@ Shaft trace_along(const cv::Mat& bgr, const Component& f, const cv::Point2d& c, 
   // rachis proportion of the length.
   std::vector<int> quill;
   for (int k = 0; k < calamus.run; ++k) quill.push_back(width[calamus_at_bottom ? r1 - k : r0 + k]);
-  if (quill.size() >= 3) {
+  if (quill.size() >= kMinQuillWidthRows) {
     shaft.width_px = median(quill);
   } else {
-    shaft.width_px = std::max(2.0, 0.008 * (r1 - r0));
+    shaft.width_px = std::max(kMinShaftWidth, kShaftWidthOfLength * (r1 - r0));
   }
   const double contrast = on_path / rows_path.size() / std::max(mean_ridge, 1e-6);
-  shaft.confidence = std::clamp((contrast - 1.0) / 3.0, 0.0, 1.0);
+  shaft.confidence = std::clamp((contrast - kZeroConfidenceContrast) / kFullConfidenceSpan, 0.0, 1.0);
   return shaft;
 }
 }  // namespace
@@ -866,7 +858,7 @@ BSpline2 fit_spline(const std::vector<glm::dvec2>& pts, int ncp) {
 double spline_length(const BSpline2& c) {
   double L = 0;
   glm::dvec2 prev = c.eval(0.0);
-  const int n = 512;
+  const int n = kLengthSamples;
   for (int i = 1; i <= n; ++i) {
     const glm::dvec2 p = c.eval(double(i) / n);
     L += glm::length(p - prev);

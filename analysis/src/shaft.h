@@ -8,16 +8,15 @@
 
 #include "plumage/common/bspline.h"
 #include "segmentation.h"
+#include "thresholds.h"
 
 namespace plumage::analysis {
 
-inline constexpr int kMinRowTips = 6;
 // A region at least kMinAcrossAspect times as long as it is wide whose coarse
 // lines run along its length by a share under kMaxLinesAlong (weighted mean
 // cos^2; an isotropic texture gives 1/2), both at 1 px and with the picture
 // blurred by kAlongBlur of its widest row, and then under kMaxRimAlong along its
 // rim, is a row of feathers side by side (shaft.cpp, share_along_axis).
-inline constexpr double kMinAcrossAspect = 1.3, kAlongBlur = 0.02, kMaxLinesAlong = 0.33, kMaxRimAlong = 0.6;
 struct Shaft {
   std::vector<cv::Point2d> path;  // calamus to tip, working pixels
   double width_px = 0;            // at the calamus
@@ -41,11 +40,13 @@ struct Shaft {
   // (downy plumes on a string, each across the string), one blob; then nothing
   // else is traced either.
   double lines_along = 1, rim_along = 1;
-  bool lines_across() const { return lines_along < kMaxLinesAlong && rim_along < kMaxRimAlong; }
+  bool lines_across() const {
+    return lines_along < thresholds::shaft::kMaxLinesAlong && rim_along < thresholds::shaft::kMaxRimAlong;
+  }
   // Two quills, a row's tips or lines, or a fan: the region holds several feathers, and
   // why, for its warning ("is several feathers that lie side by side ..."); empty for one.
   bool several_feathers() const {
-    return quills > 1 || tips >= kMinRowTips || fan_deg > 0 || lines_across();
+    return quills > 1 || tips >= thresholds::shaft::kMinRowTips || fan_deg > 0 || lines_across();
   }
   std::string several_feathers_why() const;
 };

@@ -13,15 +13,15 @@
 #include "segmentation.h"
 
 namespace plumage::analysis {
+using namespace thresholds::vane;
 namespace {
 
-// Spacing is read on lines out to this fraction of the vane's width. A barb
+// Spacing is read on lines out to kSpacingOuter of the vane's width. A barb
 // that leaves the shaft a little steeper or flatter than its neighbours crosses
 // a line at offset o displaced by o times the change of cot(theta), which at
 // small angles (1/sin^2 theta ~ 5 at 25 deg) outgrows the spacing itself in the
 // outer vane: there the barbs meet in pairs and the periodogram peaks near two
 // barbs (closed-loop study, feather 12). Nearer the shaft they are still even.
-constexpr double kSpacingOuter = 0.45;
 
 struct Unrolled {
   cv::Mat gray;  // CV_32F
@@ -32,7 +32,7 @@ struct Unrolled {
 // Resamples the photo on the shaft's normals: pixel (i, j) is the photo at
 // C(s=j) + (i - R) N(s), with N the normal toward the feather's +X side.
 Unrolled unroll(const cv::Mat& bgr, const Component& f, const BSpline2& shaft, int R) {
-  const int n = 2048;
+  const int n = kUnrollArcSamples;
   std::vector<double> ts(n + 1), ss(n + 1, 0.0);
   glm::dvec2 prev = shaft.eval(0);
   for (int i = 0; i <= n; ++i) {
@@ -74,14 +74,14 @@ void spacing(const Unrolled& U, int j0, int j1, int side, double w, double shaft
              double& conf) {
   period = 0, conf = 0;
   const int len = j1 - j0;
-  if (len < 24) return;
-  const double pmin = 2.5, pmax = std::max(pmin * 2, len / 4.0);
-  constexpr int nf = 240;
+  if (len < kSpacingMinRows) return;
+  const double pmin = kSpacingMinPeriodPx, pmax = std::max(pmin * kSpacingMinBandRatio, len / kSpacingWindowPeriods);
+  constexpr int nf = kSpacingFrequencies;
   std::vector<double> power(nf, 0.0);
-  const int hp = std::max(3, int(pmax / 2));
+  const int hp = std::max(kSpacingHighPassMinHalf, int(pmax / 2));
   int used = 0;
-  const int inner = int(std::max(shaft_w, 0.15 * w)), outer = int(kSpacingOuter * w);
-  const int step = std::max(1, (outer - inner) / 12);
+  const int inner = int(std::max(shaft_w, kSpacingInner * w)), outer = int(kSpacingOuter * w);
+  const int step = std::max(1, (outer - inner) / kSpacingLineSteps);
   // What every line shares: the taper of its ends and Goertzel's coefficient
   // 2 cos(2 pi f) at each frequency.
   std::vector<double> taper(len), c2(nf);
@@ -96,7 +96,7 @@ void spacing(const Unrolled& U, int j0, int j1, int side, double w, double shaft
       x[j] = U.gray.at<float>(j0 + j, col);
       in += U.mask.at<uchar>(j0 + j, col) != 0;
     }
-    if (in < 0.9 * len) continue;
+    if (in < kSpacingLineInside * len) continue;
     // High-pass (remove the slow shading: a running mean over 2 hp + 1
     // samples, shorter at the ends) and taper the ends.
     std::vector<double> prefix(len + 1, 0.0), y(len);
@@ -133,11 +133,11 @@ void spacing(const Unrolled& U, int j0, int j1, int side, double w, double shaft
     const int k2 = int(std::lround((2 * (f0 + k * df) - f0) / df));
     if (k2 + 1 >= nf) break;
     int best = k2;
-    for (int j = std::max(0, k2 - 4); j <= std::min(nf - 1, k2 + 4); ++j)
+    for (int j = std::max(0, k2 - kOctaveSearchBins); j <= std::min(nf - 1, k2 + kOctaveSearchBins); ++j)
       if (power[j] > power[best]) best = j;
     const bool local_peak = best > 0 && best + 1 < nf && power[best] >= power[best - 1] &&
                             power[best] >= power[best + 1];
-    if (!local_peak || power[best] < 0.25 * power[k]) break;
+    if (!local_peak || power[best] < kOctavePeakShare * power[k]) break;
     k = best;
   }
   double kk = k;
@@ -151,7 +151,7 @@ void spacing(const Unrolled& U, int j0, int j1, int side, double w, double shaft
   mean /= nf;
   // A single clean period stands out far above the mean of the band; noise
   // peaks reach a few times it.
-  conf = std::clamp((power[k] / std::max(mean, 1e-12) - 5.0) / 15.0, 0.0, 1.0);
+  conf = std::clamp((power[k] / std::max(mean, 1e-12) - kSpacingConfFloor) / kSpacingConfRange, 0.0, 1.0);
 }
 
 // The period along a line parallel to the shaft, at offset o from it, is the
@@ -159,30 +159,29 @@ void spacing(const Unrolled& U, int j0, int j1, int side, double w, double shaft
 // rooted at s crosses it at s + o cot(theta(s)), so where the barb angle changes
 // along the shaft the crossings are spread by 1 + o d(cot theta)/ds. The slope
 // of cot(theta) comes from a confidence-weighted line through the station and
-// its three neighbours either side; the measured period is divided by the factor.
+// its three neighbours either side (kFanningNeighbours); the measured period is divided by the factor.
 void correct_spacing_for_fanning(SideMeasure& S, const std::vector<double>& offset,
                                  double station_rows) {
   const int n = int(S.angle_deg.size());
   for (int k = 0; k < n; ++k) {
     double sw = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
-    for (int j = std::max(0, k - 3); j <= std::min(n - 1, k + 3); ++j) {
+    for (int j = std::max(0, k - kFanningNeighbours); j <= std::min(n - 1, k + kFanningNeighbours); ++j) {
       const double wgt = S.angle_conf[j];
       const double theta = S.angle_deg[j] * kPi / 180;
-      if (!(wgt > 0.3) || !(theta > 0.05 && theta < kPi / 2)) continue;
+      if (!(wgt > kFanningMinConf) || !(theta > kFanningMinAngleRad && theta < kPi / 2)) continue;
       const double x = (j - k) * station_rows, y = 1.0 / std::tan(theta);
       sw += wgt, sx += wgt * x, sy += wgt * y, sxx += wgt * x * x, sxy += wgt * x * y;
     }
     const double den = sw * sxx - sx * sx;
     if (!(sw > 0) || !(den > 1e-9 * sw * sw * station_rows * station_rows)) continue;
     const double slope = (sw * sxy - sx * sy) / den;
-    const double factor = std::clamp(1.0 + offset[k] * slope, 0.7, 1.4);
+    const double factor = std::clamp(1.0 + offset[k] * slope, kFanningFactorMin, kFanningFactorMax);
     if (std::isfinite(S.spacing_px[k])) S.spacing_px[k] /= factor;
   }
 }
 
-// Scales of the barb-angle tensor (pixels): the high-pass that removes what is
+// Scales of the barb-angle tensor (pixels; kBarbScalePx, kTensorScalePx): the high-pass that removes what is
 // broader than barbs, and the integration of each pixel's outer product.
-constexpr double kBarbScalePx = 4.0, kTensorScalePx = 1.5;
 
 // A pixel whose gradients, averaged over the barb scale, still point one way is
 // on a step edge (a colour bar's edge, the outline, a highlight's rim); barbs are
@@ -190,16 +189,15 @@ constexpr double kBarbScalePx = 4.0, kTensorScalePx = 1.5;
 // gradient energy that survives the averaging, |G * grad I|^2 / G * |grad I|^2
 // (G: Gaussian of kBarbScalePx), is ~0.5 on a blurred step and under 0.05 on
 // barbs 3-10 px apart; a pixel's vote is scaled by 1 - share / kEdgeShare.
-constexpr double kEdgeShare = 0.25, kEdgeScalePx = 2.0;
 
 // The dominant barb orientation in a window of the unrolled image: each pixel's
 // integrated tensor gives an orientation (as a barb angle from the shaft toward
 // the tip, 0..180 degrees, pointing away from the shaft on `side`) and a
-// coherence; a histogram (1-degree bins, smoothed over +-3) of the coherences,
+// coherence; a histogram (1-degree bins, smoothed over +-3, kAngleHistSmoothDeg) of the coherences,
 // scaled down on step edges (`edge`, above), gives the mode, refined by the
-// weighted mean of the orientations within 8 degrees of it. Confidence: the
-// share of the (edge-scaled) coherence within 10 degrees of the mode times
-// their mean, scaled by 1.4 so a clean barb pattern reads ~1.
+// weighted mean of the orientations within 8 degrees (kAngleRefineDeg) of it. Confidence: the
+// share of the (edge-scaled) coherence within 10 degrees (kAngleConfWindowDeg) of the mode times
+// their mean, scaled by 1.4 (kAngleConfScale) so a clean barb pattern reads ~1.
 // The pixels a station's barb angle and fine texture are read from: rows j0..j1 of
 // the unrolled image, offsets inner..outer from the shaft on `side`, inside the
 // eroded mask `interior`; fn(j, i) for each.
@@ -242,19 +240,19 @@ void angle_mode(const cv::Mat& Jxx, const cv::Mat& Jxy, const cv::Mat& Jyy, cons
   double best_v = -1;
   for (int k = 0; k < 180; ++k) {
     double v = 0;
-    for (int q = -3; q <= 3; ++q) v += hist[std::clamp(k + q, 0, 179)];
+    for (int q = -kAngleHistSmoothDeg; q <= kAngleHistSmoothDeg; ++q) v += hist[std::clamp(k + q, 0, 179)];
     if (v > best_v) best_v = v, best = k;
   }
   const double mode = best + 0.5;
   double sw = 0, sa = 0, near = 0, near_c = 0;
   for (const Vote& v : votes) {
     const double dd = std::fabs(v.angle - mode);
-    if (dd <= 8.0) sw += v.weight, sa += v.weight * v.angle;
-    if (dd <= 10.0) near += v.weight, near_c += double(v.weight) * v.weight;
+    if (dd <= kAngleRefineDeg) sw += v.weight, sa += v.weight * v.angle;
+    if (dd <= kAngleConfWindowDeg) near += v.weight, near_c += double(v.weight) * v.weight;
   }
   angle = sw > 0 ? sa / sw : mode;
   const double share = near / total, mean_coherence = near > 0 ? near_c / near : 0.0;
-  conf = std::clamp(1.4 * share * mean_coherence, 0.0, 1.0);
+  conf = std::clamp(kAngleConfScale * share * mean_coherence, 0.0, 1.0);
 }
 
 // The fine texture of a window: RMS of `fine` over the pixels angle_mode reads.
@@ -276,12 +274,12 @@ void find_downy_base(SideMeasure& S, const std::vector<double>& t, double period
   S.downy.assign(t.size(), 0);
   S.afterfeather_to_t = 0;
   // A station's texture is read when its window holds a patch of at least two
-  // barb periods square; the vane's is the median over the middle of the shaft,
+  // barb periods square (kDownyMinPeriodsSq); the vane's is the median over the middle of the shaft,
   // where a feather is pennaceous.
-  const double min_px = 4 * period_px * period_px;
+  const double min_px = kDownyMinPeriodsSq * period_px * period_px;
   std::vector<double> middle;
   for (std::size_t k = 0; k < t.size(); ++k)
-    if (t[k] >= 0.4 && t[k] <= 0.8 && S.texture_px[k] >= min_px) middle.push_back(S.texture[k]);
+    if (t[k] >= kDownyVaneFromT && t[k] <= kDownyVaneToT && S.texture_px[k] >= min_px) middle.push_back(S.texture[k]);
   if (middle.empty()) return;
   const double vane = median(middle);
   // From the first station with a texture toward the tip, while it stays downy.
@@ -289,10 +287,9 @@ void find_downy_base(SideMeasure& S, const std::vector<double>& t, double period
   while (k < t.size() && S.texture_px[k] < min_px) ++k;
   const std::size_t first = k;
   while (k < t.size() && S.texture_px[k] >= min_px && S.texture[k] < kDownyTexture * vane) ++k;
-  // Two stations at least (one can be a window caught on the vane's ragged
-  // base), and a base, not half the feather.
-  constexpr std::size_t kMinStations = 2;
-  if (k - first < kMinStations || k >= t.size() || t[k - 1] >= 0.5) return;
+  // Two stations at least (kDownyMinStations; one can be a window caught on the vane's ragged
+  // base), and a base, not half the feather (kDownyMaxEndT).
+  if (k - first < kDownyMinStations || k >= t.size() || t[k - 1] >= kDownyMaxEndT) return;
   for (std::size_t i = first; i < k; ++i) S.downy[i] = 1;
   S.afterfeather_to_t = 0.5 * (t[k - 1] + t[k]);
 }
@@ -301,9 +298,9 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
                           double shaft_width_px, int stations) {
   // Unroll only as far out as the outline reaches from the shaft.
   std::vector<glm::dvec2> axis;
-  for (int i = 0; i <= 128; ++i) axis.push_back(shaft.eval(i / 128.0));
+  for (int i = 0; i <= kReachAxisSegments; ++i) axis.push_back(shaft.eval(i / double(kReachAxisSegments)));
   double reach = 0;
-  for (std::size_t k = 0; k < f.contour.size(); k += 2) {
+  for (std::size_t k = 0; k < f.contour.size(); k += kReachContourStride) {
     const glm::dvec2 p(f.contour[k].x, f.contour[k].y);
     double best = 1e300;
     for (std::size_t i = 0; i + 1 < axis.size(); ++i) {
@@ -314,8 +311,8 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
     }
     reach = std::max(reach, best);
   }
-  const int R = int(std::ceil(reach)) + 4;
-  const Unrolled U = unroll(bgr, f, shaft, std::min(R, 4096));
+  const int R = int(std::ceil(reach)) + kUnrollMarginPx;
+  const Unrolled U = unroll(bgr, f, shaft, std::min(R, kUnrollMaxHalfWidthPx));
   const int L = U.gray.rows;
 
   // Structure tensor at the barb scale: gradients of the photo minus its blur
@@ -342,13 +339,13 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
     cv::GaussianBlur(ry, mean_y, cv::Size(0, 0), kEdgeScalePx);
     cv::divide(mean_x.mul(mean_x) + mean_y.mul(mean_y), energy + 1e-6f, edge);
     // The tensor carries an edge's orientation a few pixels either side of it.
-    cv::dilate(edge, edge, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(5, 5)));
+    cv::dilate(edge, edge, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(kEdgeDilatePx, kEdgeDilatePx)));
   }
   // The outline is the strongest edge in the photo; where it runs across the
   // window (a rounded tip) it would pass for a barb pointing back toward the
   // calamus. Orientations are read only a few pixels inside the mask.
   cv::Mat interior;
-  cv::erode(U.mask, interior, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(7, 7)));
+  cv::erode(U.mask, interior, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(kInteriorErodePx, kInteriorErodePx)));
 
   // Width per row and side: the outermost mask pixel.
   std::vector<int> wl(L, 0), wr(L, 0);
@@ -372,7 +369,7 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
     const double t = (k + 0.5) / stations;
     out.t.push_back(t);
     const int c = int(t * (L - 1));
-    const int h = std::max(2, L / (2 * stations));
+    const int h = std::max(kStationMinHalfRows, L / (2 * stations));
     const int j0 = std::max(0, c - h), j1 = std::min(L, c + h + 1);
     // A side is present where the mask reaches past the rachis, which narrows from the
     // quill's width at the calamus toward the tip as the built one does.
@@ -394,7 +391,7 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
       // local orientation, not the mean, so that the edges of colour bars
       // across the vane (a minority of pixels, at about 90 degrees), highlights
       // and splits do not pull it (angle_mode).
-      const int inner = int(std::max(shaft_width_px, 0.15 * w)), outer = int(0.85 * w);
+      const int inner = int(std::max(shaft_width_px, kAngleInner * w)), outer = int(kAngleOuter * w);
       double angle = NAN, conf = 0, texture = 0;
       int texture_px = 0;
       if (outer > inner) {
@@ -406,15 +403,15 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
       // Barbs leave the shaft toward the tip: an orientation pointing back
       // toward the calamus is something else (an edge, a split) and not trusted.
       S.angle_deg.push_back(angle);
-      S.angle_conf.push_back(std::isfinite(angle) && angle < 90.0 ? conf : 0.0);
+      S.angle_conf.push_back(std::isfinite(angle) && angle < kAngleMaxDeg ? conf : 0.0);
 
       // Barb spacing over a window long enough for several periods.
-      const int hw = std::max(h, 48);
+      const int hw = std::max(h, kSpacingMinHalfRows);
       double p, pc;
       spacing(U, std::max(0, c - hw), std::min(L, c + hw + 1), side, w, shaft_width_px, p, pc);
       S.spacing_px.push_back(p > 0 ? p : NAN);
       S.spacing_conf.push_back(pc);
-      offsets[side > 0].push_back(0.5 * (std::max(shaft_width_px, 0.15 * w) + kSpacingOuter * w));
+      offsets[side > 0].push_back(0.5 * (std::max(shaft_width_px, kSpacingInner * w) + kSpacingOuter * w));
     }
   }
   const double station_rows = double(L - 1) / stations;
@@ -433,7 +430,7 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2
           else if (k + dk < stations && !std::isnan((*v)[k + dk]))
             fill = (*v)[k + dk];
         }
-        (*v)[k] = std::isnan(fill) ? (v == &S->angle_deg ? 45.0 : 0.0) : fill;
+        (*v)[k] = std::isnan(fill) ? (v == &S->angle_deg ? kAngleFillDeg : 0.0) : fill;
       }
     }
   return out;

@@ -7,8 +7,11 @@
 
 #include "plumage/common/bspline.h"
 #include "segmentation.h"
+#include "thresholds.h"
 
 namespace plumage::analysis {
+
+using thresholds::vane::kDownyTexture;
 
 struct SideMeasure {
   std::vector<double> width_px, width_conf;
@@ -33,7 +36,6 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& feather, const BS
 // A side's downy base (docs/analysis.md, "Downy base"), for a photo that resolves
 // barbs `period_px` apart: the run of stations from the base whose fine texture
 // is under kDownyTexture of the vane's; sets side.downy and side.afterfeather_to_t.
-inline constexpr double kDownyTexture = 0.5;
 void find_downy_base(SideMeasure& side, const std::vector<double>& t, double period_px);
 
 }  // namespace plumage::analysis
