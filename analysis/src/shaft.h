@@ -16,7 +16,8 @@ namespace plumage::analysis {
 // lines run along its length by a share under kMaxLinesAlong (weighted mean
 // cos^2; an isotropic texture gives 1/2), both at 1 px and with the picture
 // blurred by kAlongBlur of its widest row, and then under kMaxRimAlong along its
-// rim, is a row of feathers side by side (shaft.cpp, share_along_axis).
+// rim, is a row of feathers side by side (shaft.cpp, share_along_axis; the
+// numbers are in thresholds.h, namespace thresholds::shaft).
 struct Shaft {
   std::vector<cv::Point2d> path;  // calamus to tip, working pixels
   double width_px = 0;            // at the calamus
