@@ -2,12 +2,13 @@
 // Photo analysis's rules and their thresholds, one documented set (private to
 // analysis/src; pixel figures in working pixels, the photo after any downscale;
 // docs/analysis.md, "Where the code is"). One namespace per stage that decides
-// with them: segmentation (feathers told from the card, touching ones separated,
-// rows split), shaft (the rachis traced, rows and fans of feathers told apart),
-// vane (widths, barb angles and spacing, the downy base). Each threshold has one
-// comment line: what it separates and where it was measured; "not tuned" or
-// "not documented" where no measurement is on record. The stage's source reads
-// its namespace unqualified (using namespace thresholds::STAGE).
+// with them: segmentation (feathers told from the card, and in separate.cpp and
+// rows.cpp touching ones cut apart and faint rows joined and cut), shaft (the
+// rachis traced, rows and fans of feathers told apart), vane (widths, barb angles
+// and spacing, the downy base). Each threshold has one comment line: what it
+// separates and where it was measured; "not tuned" or "not documented" where no
+// measurement is on record. The stage's sources read its namespace unqualified
+// (using namespace thresholds::STAGE).
 #include <cstddef>
 
 namespace plumage::analysis::thresholds::segmentation {
