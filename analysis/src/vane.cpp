@@ -183,11 +183,11 @@ void correct_spacing_for_fanning(SideMeasure& S, const std::vector<double>& offs
 // Scales of the barb-angle tensor (pixels; kBarbScalePx, kTensorScalePx): the high-pass that removes what is
 // broader than barbs, and the integration of each pixel's outer product.
 
-// A pixel whose gradients, averaged over the barb scale, still point one way is
+// A pixel whose gradients, averaged over kEdgeScalePx, still point one way is
 // on a step edge (a colour bar's edge, the outline, a highlight's rim); barbs are
 // a grating of thin lines whose gradients cancel there. The share of the
 // gradient energy that survives the averaging, |G * grad I|^2 / G * |grad I|^2
-// (G: Gaussian of kBarbScalePx), is ~0.5 on a blurred step and under 0.05 on
+// (G: Gaussian of kEdgeScalePx), is ~0.5 on a blurred step and under 0.05 on
 // barbs 3-10 px apart; a pixel's vote is scaled by 1 - share / kEdgeShare.
 
 // The dominant barb orientation in a window of the unrolled image: each pixel's
