@@ -12,9 +12,9 @@ namespace {
 
 // "[lo, hi]", ">= lo" or "<= hi", the ends as a person reads them.
 std::string allowed(double lo, double hi) {
-  if (std::isinf(hi)) return ">= " + num(lo);
-  if (std::isinf(lo)) return "<= " + num(hi);
-  return "[" + num(lo) + ", " + num(hi) + "]";
+  std::string text = std::isinf(hi) ? ">= " : std::isinf(lo) ? "<= " : "[";
+  text += std::isinf(hi) ? num(lo) : std::isinf(lo) ? num(hi) : num(lo) + ", " + num(hi) + "]";
+  return text;
 }
 
 }  // namespace
@@ -41,7 +41,7 @@ JsonReader::JsonReader(const nlohmann::json& top, std::string file, std::string 
 JsonReader::JsonReader(const nlohmann::json& j, std::shared_ptr<const std::string> file,
                        std::shared_ptr<const std::string> hint, std::string place)
     : j_(&j), file_(std::move(file)), hint_(std::move(hint)), place_(std::move(place)),
-      known_(std::make_shared<std::set<std::string>>()) {}
+      known_(j.is_object() ? std::make_shared<std::set<std::string>>() : nullptr) {}
 
 JsonReader JsonReader::child(const nlohmann::json& j, std::string place) const {
   return JsonReader(j, file_, hint_, std::move(place));
@@ -135,8 +135,17 @@ std::string JsonReader::string() const {
 }
 
 std::vector<double> JsonReader::numbers(std::size_t count, double lo, double hi) const {
+  if (!j_->is_array()) fail(std::string("expected an array [...], got ") + j_->type_name());
+  if (count != 0 && j_->size() != count) elements(count);  // fails, naming the count
   std::vector<double> out;
-  for (const JsonReader& e : elements(count)) out.push_back(e.number(lo, hi));
+  out.reserve(j_->size());
+  for (std::size_t i = 0; i < j_->size(); ++i) {
+    const nlohmann::json& e = (*j_)[i];
+    const double v = e.is_number() ? e.get<double>() : 0.0;
+    // A place is written out only for an element that fails (number() says why).
+    if (!e.is_number() || !std::isfinite(v) || v < lo || v > hi) child(e, place_ + "[" + std::to_string(i) + "]").number(lo, hi);
+    out.push_back(v);
+  }
   return out;
 }
 

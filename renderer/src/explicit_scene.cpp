@@ -1,6 +1,7 @@
 // Scene's explicit mode (DESIGN §4, docs/substructure.md "Explicit reference"):
 // every kept barb's ramus and barbules, built by explicit_geometry.h, as round
-// B-spline curves in one Embree geometry.
+// B-spline curves in one Embree geometry (or, for the far-field fit's patch, as
+// chains of round linear pieces: SceneOptions::explicit_polylines).
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -35,9 +36,9 @@ int polyline_pieces(const glm::vec4* cp) {
       const glm::vec4 a = bspline_point(cp, u0), b = bspline_point(cp, u1);
       for (int j = 0; j <= 16; ++j) {
         const float t = float(j) / 16;
-        const glm::vec4 d = bspline_point(cp, u0 + t * (u1 - u0)) - (a + t * (b - a));
+        const glm::vec4 on_curve = bspline_point(cp, u0 + t * (u1 - u0)), d = on_curve - (a + t * (b - a));
         worst = std::max(worst, glm::length(glm::vec3(d)) + std::fabs(d.w));
-        radius = std::min(radius, std::max(bspline_point(cp, u0 + t * (u1 - u0)).w, 0.0f));
+        radius = std::min(radius, std::max(on_curve.w, 0.0f));
       }
     }
     if (worst <= kPolylineTolerance * radius || pieces >= 64) return pieces;
@@ -61,7 +62,6 @@ void Scene::build_explicit() {
     }
   explicit_bytes_ = ex.bytes();
   g_explicit_curves += std::int64_t(ex.fibres.size());
-  g_explicit_segments += std::int64_t(ex.segments());
   g_explicit_bytes += std::int64_t(explicit_bytes_);
   if (options_.explicit_polylines) {
     barbs_.linear = true;
@@ -86,6 +86,7 @@ void Scene::build_explicit() {
                                             (k + 1 < barbs_.indices.size() ? RTC_CURVE_FLAG_NEIGHBOR_RIGHT : 0)));
     }
     explicit_fibres_ = std::move(ex.fibres);
+    g_explicit_segments += std::int64_t(barbs_.indices.size());
     commit_curves(barbs_, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
     return;
   }
@@ -98,6 +99,7 @@ void Scene::build_explicit() {
     }
   }
   explicit_fibres_ = std::move(ex.fibres);
+  g_explicit_segments += std::int64_t(barbs_.indices.size());
   commit_curves(barbs_, RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE);
 }
 

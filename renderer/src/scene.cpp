@@ -25,8 +25,10 @@ StatCounter g_culled("Scene/Curves culled (outside the view and its shadow reach
 
 }  // namespace
 
-Scene::Scene(const Feather& feather, const SceneOptions& options)
-    : feather_(feather), options_(options), rtc_(std::make_unique<Embree>()) {
+Scene::Scene(const Feather& feather, const SceneOptions& options) : Scene(feather, options, nullptr) {}
+
+Scene::Scene(const Feather& feather, const SceneOptions& options, std::shared_ptr<const RibbonLayers> layers)
+    : feather_(feather), options_(options), rtc_(std::make_unique<Embree>()), ribbon_layers_(std::move(layers)) {
   for (std::size_t i = 0; i < feather_.curves.size(); ++i) {
     const Curve& c = feather_.curves[i];
     const std::string which = std::string(to_string(c.kind)) + " curve #" + std::to_string(i);
@@ -76,7 +78,7 @@ Scene::Scene(const Feather& feather, const SceneOptions& options)
   culled_ = std::size_t(std::count(keep_.begin(), keep_.end(), 0));
   g_culled += std::int64_t(culled_);
 
-  if (!feather_.albedo.texture.empty()) ribbon_layers_ = RibbonLayers(feather_);
+  if (!feather_.albedo.texture.empty() && !ribbon_layers_) ribbon_layers_ = std::make_shared<const RibbonLayers>(feather_);
   if (options_.mode == ShadingMode::Substructure) build_substructure("--shading substructure");
   if (options_.mode == ShadingMode::Farfield) build_farfield();
 
@@ -158,7 +160,7 @@ const Scene::CurveGeometry* Scene::curve_geometry(std::uint32_t geom) const {
 void* Scene::embree_scene() const { return rtc_->scene; }
 
 int Scene::ribbon_layers(const SurfaceHit& hit) const {
-  return hit.kind == HitKind::Barb ? ribbon_layers_.at({hit.p.x, hit.p.y}) : 1;
+  return hit.kind == HitKind::Barb && ribbon_layers_ ? ribbon_layers_->at({hit.p.x, hit.p.y}) : 1;
 }
 
 }  // namespace plumage

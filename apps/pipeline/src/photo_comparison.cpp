@@ -33,11 +33,12 @@ Feather generate_from_layout(const FeatherLayout& layout, std::uint64_t seed, co
 
 namespace {
 // The feather's two scenes, hair and substructure, both built before either
-// renders, so a bad substructure parameter fails before any time is spent.
+// renders, so a bad substructure parameter fails before any time is spent; the
+// second takes the first's ribbon-layer map instead of drawing it again.
 struct ModeScenes {
   ModeScenes(const Feather& feather, SceneOptions options)
       : hair(feather, with_mode(options, ShadingMode::Hair)),
-        substructure(feather, with_mode(options, ShadingMode::Substructure)) {}
+        substructure(feather, with_mode(options, ShadingMode::Substructure), hair.ribbon_layer_map()) {}
   static SceneOptions with_mode(SceneOptions o, ShadingMode mode) {
     o.mode = mode;
     return o;

@@ -70,7 +70,7 @@ class JsonReader {
   const nlohmann::json* j_;
   std::shared_ptr<const std::string> file_, hint_;
   std::string place_;
-  std::shared_ptr<std::set<std::string>> known_;  // keys asked for (objects)
+  std::shared_ptr<std::set<std::string>> known_;  // keys asked for (objects only; shared by copies)
 };
 
 // The Levenshtein distance between two strings (insertions, deletions, substitutions).

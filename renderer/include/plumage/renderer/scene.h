@@ -59,6 +59,9 @@ class Scene {
   // Throws plumage::Error for a feather with no drawable curve, a curve with fewer
   // than 4 control points, non-finite or negative data, or a mode not built yet.
   Scene(const Feather& feather, const SceneOptions& options);
+  // The same, taking the ribbon-layer map of another scene of this very feather
+  // (ribbon_layer_map(); it depends on the feather alone) instead of drawing it again.
+  Scene(const Feather& feather, const SceneOptions& options, std::shared_ptr<const RibbonLayers> layers);
   ~Scene();
   Scene(const Scene&) = delete;
   Scene& operator=(const Scene&) = delete;
@@ -102,6 +105,8 @@ class Scene {
   // (RibbonLayers), in every mode; 1 for other hits and for a feather whose albedo
   // is not a texture (the map is only built for one).
   int ribbon_layers(const SurfaceHit& hit) const;
+  // The feather's ribbon-layer map (null for a feather without an albedo texture).
+  const std::shared_ptr<const RibbonLayers>& ribbon_layer_map() const { return ribbon_layers_; }
   const Feather& feather() const { return feather_; }
   const SceneOptions& options() const { return options_; }
   // Bounds of the feather's curves including radii (the backdrop is left out).
@@ -172,7 +177,7 @@ class Scene {
   std::vector<glm::vec3> barb_normals_;
   std::vector<ExplicitFibre> explicit_fibres_;  // explicit mode; control points live in barbs_
   std::size_t explicit_bytes_ = 0;
-  RibbonLayers ribbon_layers_;
+  std::shared_ptr<const RibbonLayers> ribbon_layers_;
   std::vector<float> explicit_coverage_;  // explicit mode: per feather curve, the ribbon coverage substructure mode gives it
   std::vector<FarfieldGeometry> farfield_geometry_[2];               // farfield mode: left, right, per class
   std::vector<std::shared_ptr<const FarfieldModel>> farfield_T_[2];  // their straight transmittance
