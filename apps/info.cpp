@@ -7,6 +7,8 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "plumage/pipeline/feather_scene.h"
+
 #include "command.h"
 #include "plumage/common/bspline.h"
 #include "plumage/common/curve_format.h"
@@ -172,13 +174,52 @@ void print_text(std::ostream& out, const std::string& file, const Feather& f, co
     out << "none (clear fibres)\n";
 }
 
+// A scene of many feathers: its placements, its distinct feathers and their barbs.
+void print_scene(std::ostream& out, const std::string& file, const LoadedScene& loaded, bool json) {
+  const FeatherScene& sc = loaded.scene;
+  std::vector<std::size_t> uses(sc.feathers.size(), 0);
+  std::size_t mirrored = 0;
+  for (const ScenePlacement& p : sc.placements) {
+    ++uses[p.feather];
+    if (similarity_of(p.to_world)->mirrored) ++mirrored;
+  }
+  if (json) {
+    nlohmann::ordered_json j;
+    j["file"] = file;
+    j["format"] = "fscene";
+    j["placements"] = sc.placements.size();
+    j["distinct_feathers"] = sc.feathers.size();
+    j["barbs"] = loaded.placed_barbs();
+    j["mirrored_placements"] = mirrored;
+    j["feathers"] = nlohmann::ordered_json::array();
+    for (std::size_t i = 0; i < sc.feathers.size(); ++i) {
+      const SceneFeather& f = sc.feathers[i];
+      j["feathers"].push_back({{"name", f.name},
+                               {"source", f.source == SceneFeatherSource::Fcurves ? "fcurves" : "preset"},
+                               {"from", f.source == SceneFeatherSource::Fcurves ? f.path : f.preset},
+                               {"barbs", loaded.feathers[i].count(CurveKind::Barb)},
+                               {"placements", uses[i]}});
+    }
+    out << json_text(j, 2) << "\n";
+    return;
+  }
+  out << file << ": scene of " << sc.placements.size() << " placements (" << mirrored << " mirrored) of "
+      << sc.feathers.size() << " distinct feathers, " << loaded.placed_barbs() << " barbs over all placements\n";
+  for (std::size_t i = 0; i < sc.feathers.size(); ++i) {
+    const SceneFeather& f = sc.feathers[i];
+    out << "  " << f.name << ": "
+        << (f.source == SceneFeatherSource::Fcurves ? "fcurves " + f.path : "preset " + f.preset + " seed " + std::to_string(f.seed))
+        << ", " << loaded.feathers[i].count(CurveKind::Barb) << " barbs, placed " << uses[i] << "x\n";
+  }
+}
+
 struct InfoArgs {
   std::string input;
   bool json = false;
 };
 
 const Registration kInfo{
-    "info", "Summarise a .fcurves file: curve counts, bounds, lengths, substructure, albedo, provenance",
+    "info", "Summarise a .fcurves file (curve counts, bounds, lengths, substructure, albedo, provenance) or a .fscene",
     [](CLI::App& sub) -> std::function<int()> {
       auto args = std::make_shared<InfoArgs>();
       sub.footer(
@@ -186,11 +227,17 @@ const Registration kInfo{
           "malformed file is reported as FILE:LINE:COL: message.\n"
           "Lengths are arc lengths of the B-spline centrelines; bounds are their tight\n"
           "bounds (radii not included).\n"
+          "A .fscene scene is summarised by its placements, distinct feathers and barbs over all\n"
+          "placements (docs/scene-format.md); its feathers are read or generated to count them.\n"
           "Example: plumage info feather.fcurves --json\n"
           "Exit status: 0 done, 1 the file could not be read or is malformed, 2 usage error.\n");
-      sub.add_option("FILE", args->input, "The .fcurves file to read")->required();
+      sub.add_option("FILE", args->input, "The .fcurves or .fscene file to read")->required();
       sub.add_flag("--json", args->json, "Print the summary as JSON (for scripts)");
       return [args]() -> int {
+        if (std::filesystem::path(args->input).extension() == ".fscene") {
+          print_scene(std::cout, args->input, load_scene(args->input), args->json);
+          return 0;
+        }
         const Feather f = read_fcurves(args->input);
         const Summary s = summarize(f);
         if (args->json)

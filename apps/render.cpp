@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,7 @@
 #include "plumage/renderer/explicit_geometry.h"
 #include "plumage/renderer/feather_render.h"
 #include "plumage/renderer/structure_aov.h"
+#include "plumage/pipeline/feather_scene.h"
 
 namespace plumage::cli {
 namespace {
@@ -36,7 +38,55 @@ struct Options {
   MaterialOptions material;
   std::string aov;
   SubstructureOverrides substructure;
+  // The view flags given on the command line: a scene's camera and lights yield to them.
+  std::set<std::string> given;
 };
+
+constexpr const char* kSceneViewFlags[] = {"--camera-pos", "--look-at", "--up", "--fov", "--lights"};
+bool given(const Options& o, const char* flag) { return o.given.count(flag) > 0; }
+
+// A .fscene's camera and LEDs, where the command line does not set them.
+void apply_scene_view(const Options& o, const FeatherScene& scene, ViewSpec& view) {
+  if (scene.camera.position && !given(o, "--camera-pos")) view.camera.position = scene.camera.position;
+  if (scene.camera.look_at && !given(o, "--look-at")) view.camera.look_at = scene.camera.look_at;
+  if (scene.camera.up && !given(o, "--up")) view.camera.up = *scene.camera.up;
+  if (scene.camera.fov_deg && !given(o, "--fov")) view.camera.fov_deg = *scene.camera.fov_deg;
+  if (scene.lights && !given(o, "--lights")) view.lights = *scene.lights;
+}
+
+// `plumage render scene.fscene`: every distinct feather built once, placed as the scene says.
+int run_render_scene(const Options& o, ViewSpec view, ShadingMode mode) {
+  if (!o.aov.empty()) throw UsageError("--aov works on one feather; render a .fcurves file for it");
+  if (o.view.cull) throw UsageError("--cull works on one feather; leave it out for a .fscene");
+  LoadedScene loaded = load_scene(o.input);
+  apply_scene_view(o, loaded.scene, view);
+  const DomeRig rig = o.view.read_rig();
+  try {
+    (void)light_ranges(view.lights, int(rig.leds.size()));
+  } catch (const Error& e) {
+    throw Error(o.input + ": lights: " + e.what());
+  }
+  for (Feather& f : loaded.feathers) {
+    o.substructure.apply(f);
+    if (mode == ShadingMode::Explicit) check_explicit_fits(f);
+  }
+  SceneOptions so = o.view.scene_options(view, rig);
+  so.mode = mode;
+  const BuiltWorld built(loaded, so, view);
+  if (view_lights(built.world().bounds(), rig, view).empty())
+    std::cerr << "plumage: warning: no light is on (--lights none and no --env/--directional); the image is black\n";
+  const Image image = render_view(built.world(), rig, view);
+  write_image(o.output, image);
+  stats_set_value("Scene/Placements", double(loaded.scene.placements.size()));
+  stats_set_value("Scene/Distinct feathers", double(loaded.feathers.size()));
+  stats_set_value("Scene/Barbs over all placements", double(loaded.placed_barbs()));
+  stats_set_value("Scene/Distinct feathers' control points (bytes)", double(built.feather_bytes()));
+  stats_set_value("Scene/Placement records (bytes)", double(built.placement_bytes()));
+  if (!global_options().quiet)
+    std::cerr << "wrote " << o.output << " (" << view.width << "x" << view.height << ", " << view.spp << " spp, "
+              << loaded.scene.placements.size() << " placements of " << loaded.feathers.size() << " feathers)\n";
+  return 0;
+}
 
 // The render-only parts of the view: extra lights, the sampler and the material.
 void add_lights_and_material(const Options& o, ViewSpec& view) {
@@ -73,6 +123,7 @@ int run_render(const Options& o) {
     throw UsageError("--aov structure shows rami and barbules: give --shading substructure or explicit");
   ViewSpec view = o.view.view_spec(o.input, !global_options().quiet);
   add_lights_and_material(o, view);  // its usage errors before any file is read
+  if (std::filesystem::path(o.input).extension() == ".fscene") return run_render_scene(o, view, mode);
   const DomeRig rig = o.view.read_rig();
   const auto t_setup = clock::now();
   Feather feather = read_fcurves(o.input);
@@ -112,12 +163,18 @@ int run_render(const Options& o) {
 const Registration kRender{
     "render", "Path trace a feather curve file to an image (EXR linear / PNG sRGB)", [](CLI::App& sub) {
       auto o = std::make_shared<Options>();
+      sub.parse_complete_callback([o, &sub] {
+        for (const char* flag : kSceneViewFlags)
+          if (sub.count(flag) > 0) o->given.insert(flag);
+      });
       sub.footer(
+          "A .fscene input renders many feathers, each distinct one built once (docs/scene-format.md); its\n"
+          "camera and lights records apply where --camera-pos, --look-at, --up, --fov and --lights are not given.\n"
           "Lights: the dome rig's LEDs (--lights all | none | 1,5,12 | 1-8), an environment (--env) and\n"
           "directional lights add up. Units are mm; the feather lies in XY with its dorsal side to +Z.\n"
           "Example: plumage render feather.fcurves -o out.png --spp 64 --lights 1 --exposure 2\n"
           "See docs/rendering.md.");
-      sub.add_option("input", o->input, "Feather curve file (.fcurves)")->required();
+      sub.add_option("input", o->input, "Feather curve file (.fcurves) or scene of many feathers (.fscene)")->required();
       sub.add_option("-o,--output", o->output, "Output image: .exr (linear float) or .png (sRGB 8-bit)")->required();
       add_shading_option(sub, o->shading, "Barb shading: hair (fibres, production practice), substructure (Baron et al. 2021; docs/substructure.md) explicit (rami and barbules as real curves: the slow reference) or farfield (ribbons shaded by a table measured on the explicit geometry; fitted once, cached in $PLUMAGE_FARFIELD_CACHE)");
       sub.add_option("--aov", o->aov, "Write an AOV instead of the beauty image: 'structure' colours ramus, distal and proximal barbules and gaps (needs --shading substructure or explicit)")

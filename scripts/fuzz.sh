@@ -11,13 +11,14 @@
 # Exits non-zero on the first finding (crash, sanitizer report, hang > 10 s, an
 # exception other than plumage::Error, a broken round trip); the input that
 # triggered it is saved under $BUILD_DIR/findings/. docs/robustness.md explains.
-# Targets: fcurves, feather_params, image, argv and layout (the layout.json reader).
+# Targets: fcurves, feather_params, image, argv, layout (the layout.json reader) and
+# fscene (the scene reader).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 build=${BUILD_DIR:-build-fuzz}
 jobs=${JOBS:-$(nproc)}
-default_targets="fcurves feather_params image argv layout"
+default_targets="fcurves feather_params image argv layout fscene"
 targets=${TARGETS:-$default_targets}
 
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
@@ -27,7 +28,7 @@ for t in $targets; do build_targets+=("fuzz_$t"); done
 cmake --build "$build" -j "$jobs" --target "${build_targets[@]}"
 
 # Inputs per second of each target on the 2-core VM (docs/perf/robust.md).
-declare -A rate=([fcurves]=40000 [feather_params]=20000 [layout]=15000 [image]=400 [argv]=300)
+declare -A rate=([fscene]=40000 [fcurves]=40000 [feather_params]=20000 [layout]=15000 [image]=400 [argv]=300)
 
 mkdir -p "$build/findings"
 # Decoder messages stay on stderr: read_image captures them into its one-line

@@ -158,6 +158,22 @@ class HostileCli : public ::testing::Test {
       write_fcurves(in_ / name, t);
     }
 
+    // Scenes of many feathers (.fscene): damaged scenes, and good scenes whose
+    // feather file is missing, damaged, a device or a FIFO.
+    {
+      const std::string scene = "fscene 1\nfeather a fcurves \"f.fcurves\"\nplace a\nplace a mirror x\nend\n";
+      put("empty.fscene", "");
+      put("garbage.fscene", "this is not a scene\n\x01\x02\xff\n");
+      put("half.fscene", scene.substr(0, scene.size() / 2));
+      put("binary.fscene", std::string("\0\0\0\x7f\xff\xfe", 6) + scene);
+      put("nul.fscene", replace_all(scene, "\n", std::string("\n\0", 2)));
+      put("shear.fscene", "fscene 1\nfeather a fcurves \"f.fcurves\"\nplace a matrix 1 0.5 0 0 0 1 0 0 0 0 1 0\nend\n");
+      for (const auto& [name, target] : {std::pair{"to_missing.fscene", "missing.fcurves"}, {"to_garbage.fscene", "garbage.fcurves"},
+                                         {"to_fifo.fscene", "fifo.fcurves"}, {"to_dev.fscene", "/dev/zero"},
+                                         {"to_dir.fscene", "dir"}, {"to_far.fscene", "far.fcurves"}})
+        put(name, "fscene 1\nfeather a fcurves \"" + std::string(target) + "\"\nplace a\nend\n");
+    }
+
     // Images: a feather photo, and damaged, huge, empty and mislabelled ones.
     synthetic::SyntheticFeather sf;
     write_image(in_ / "photo.png", sf.draw());
@@ -526,6 +542,12 @@ TEST_F(HostileCli, BadInputFiles) {
     cases.push_back({"export " + file + " -o {o}/out.pbrt", 1});
     cases.push_back({"info " + file, 1});
   }
+  for (const char* in : {"empty.fscene", "garbage.fscene", "half.fscene", "binary.fscene", "nul.fscene", "shear.fscene",
+                         "to_missing.fscene", "to_garbage.fscene", "to_fifo.fscene", "to_dev.fscene", "to_dir.fscene"}) {
+    cases.push_back({"render {d}/" + std::string(in) + " --resolution 8x8 --spp 1 -o {o}/out.png", 1});
+    cases.push_back({"info {d}/" + std::string(in), 1});
+  }
+  cases.push_back({"render {d}/to_far.fscene --resolution 8x8 --spp 1 -o {o}/out.png", 1});
   for (const char* dev : {"/dev/zero", "/dev/null", "/dev/urandom"}) {
     cases.push_back({"render " + std::string(dev) + " --resolution 8x8 --spp 1 -o {o}/out.png", 1});
     cases.push_back({"info " + std::string(dev), 1});

@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "float_text.h"
+#include "line_reader.h"
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
 #include "plumage/common/text.h"
@@ -39,21 +40,8 @@ constexpr double kNormalTolerance = 1e-3;  // accepted deviation of |n| from 1
 using detail::append_float;
 using detail::append_vec3;
 using detail::append_int;
-
-bool printable_string(const std::string& s) {
-  for (unsigned char c : s)
-    if (c < 0x20 || c == 0x7f) return false;
-  return true;
-}
-
-void append_quoted(std::string& out, const std::string& s) {
-  out += '"';
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  out += '"';
-}
+using detail::append_quoted;
+using detail::printable_string;
 
 }  // namespace
 
@@ -121,50 +109,24 @@ namespace {
 
 // ---------------------------------------------------------------- reading ---
 
-struct Token {
-  std::string_view text;  // quoted strings keep their quotes
-  int column;             // 1-based
-};
-
 const char* const kPointFields = "x y z radius nx ny nz";
 
-class Reader {
+using detail::LineReader;
+using detail::Token;
+
+class Reader : LineReader {
  public:
-  Reader(std::string_view text, const std::string& filename) : text_(text), file_(filename) {}
+  Reader(std::string_view text, const std::string& filename) : LineReader(text, filename) {}
 
   Feather parse();
 
  private:
-  // Splits the next line into tokens; returns false at end of text.
-  bool next_line();
-  [[noreturn]] void fail(int column, const std::string& message) const {
-    throw Error(Location{file_, line_no_, column}, message);
-  }
-  [[noreturn]] void fail(const Token& t, const std::string& message) const { fail(t.column, message); }
-  int end_column() const { return static_cast<int>(line_.size()) + 1; }
-
-  float to_float(const Token& t, const char* what) const;
-  float finite_float(const Token& t, const char* what) const;
-  float nonneg_float(const Token& t, const char* what) const;
-  float ranged_float(const Token& t, const char* what, float lo, float hi, const char* range) const;
-  std::uint64_t unsigned_int(const Token& t, const char* what) const;
-  std::string quoted(const Token& t, const char* what) const;
-  void expect_count(std::size_t n, const std::string& form) const;
-
-  void parse_header_line();
   void parse_record(Feather& f);
   void parse_albedo(Feather& f);
   void parse_substructure(Feather& f);
   void parse_curve(Feather& f);
   void parse_point(ControlPoint& p);
   void parse_trailer();
-
-  std::string_view text_;
-  std::string file_;
-  std::size_t pos_ = 0;
-  int line_no_ = 0;
-  std::string_view line_;
-  std::vector<Token> tok_;
 
   // Records seen (line numbers, 0 = not yet), to reject duplicates and check required ones.
   int shaft_colour_line_ = 0, scale_line_ = 0, medulla_line_ = 0, units_line_ = 0, source_line_ = 0, seed_line_ = 0,
@@ -174,139 +136,6 @@ class Reader {
   bool in_curves_ = false;
 };
 
-bool Reader::next_line() {
-  if (pos_ >= text_.size()) return false;
-  std::size_t nl = text_.find('\n', pos_);
-  if (nl == std::string_view::npos) nl = text_.size();
-  line_ = text_.substr(pos_, nl - pos_);
-  if (!line_.empty() && line_.back() == '\r') line_.remove_suffix(1);  // tolerate CRLF files
-  pos_ = nl + 1;
-  ++line_no_;
-
-  tok_.clear();
-  const char* s = line_.data();
-  const std::size_t n = line_.size();
-  std::size_t i = 0;
-  while (i < n) {
-    const char c = s[i];
-    if (c == ' ' || c == '\t') {
-      ++i;
-      continue;
-    }
-    if (c == '#') break;
-    const std::size_t start = i;
-    if (c == '"') {
-      ++i;
-      for (;;) {
-        if (i >= n) fail(static_cast<int>(start) + 1, "unterminated string: add the closing '\"'");
-        if (s[i] == '\\') {
-          if (i + 1 >= n || (s[i + 1] != '"' && s[i + 1] != '\\'))
-            fail(static_cast<int>(i) + 1, "unknown escape in string: only \\\" and \\\\ are allowed");
-          i += 2;
-          continue;
-        }
-        if (s[i] == '"') {
-          ++i;
-          break;
-        }
-        if (static_cast<unsigned char>(s[i]) < 0x20 || s[i] == 0x7f)
-          fail(static_cast<int>(i) + 1,
-               "control character in a string: strings are one line of printable text");
-        ++i;
-      }
-      if (i < n && s[i] != ' ' && s[i] != '\t' && s[i] != '#')
-        fail(static_cast<int>(i) + 1, "expected a space after the closing '\"'");
-    } else {
-      while (i < n && s[i] != ' ' && s[i] != '\t' && s[i] != '#') {
-        if (s[i] == '"') fail(static_cast<int>(i) + 1, "stray '\"' inside a word: quote the whole string");
-        if (static_cast<unsigned char>(s[i]) < 0x20 || s[i] == 0x7f)
-          fail(static_cast<int>(i) + 1, "control character in the text: the file must be plain text");
-        ++i;
-      }
-    }
-    tok_.push_back({line_.substr(start, i - start), static_cast<int>(start) + 1});
-  }
-  return true;
-}
-
-float Reader::to_float(const Token& t, const char* what) const {
-  float v = 0;
-  const char* b = t.text.data();
-  const char* e = b + t.text.size();
-  // from_chars does not take a leading '+'; numbers in the format never have one.
-  auto [ptr, ec] = std::from_chars(b, e, v, std::chars_format::general);
-  if (ec == std::errc::result_out_of_range)
-    fail(t, std::string(what) + ": '" + std::string(t.text) + "' is out of range for a 32-bit float");
-  if (ec != std::errc() || ptr != e)
-    fail(t, std::string(what) + ": expected a number, found '" + std::string(t.text) + "'");
-  return v;
-}
-
-float Reader::finite_float(const Token& t, const char* what) const {
-  const float v = to_float(t, what);
-  if (!std::isfinite(v)) fail(t, std::string(what) + ": must be finite, found '" + std::string(t.text) + "'");
-  return v;
-}
-
-float Reader::nonneg_float(const Token& t, const char* what) const {
-  const float v = finite_float(t, what);
-  if (v < 0) fail(t, std::string(what) + ": must not be negative, found '" + std::string(t.text) + "'");
-  return v;
-}
-
-float Reader::ranged_float(const Token& t, const char* what, float lo, float hi, const char* range) const {
-  const float v = finite_float(t, what);
-  if (v < lo || v > hi)
-    fail(t, std::string(what) + ": must be in " + range + ", found '" + std::string(t.text) + "'");
-  return v;
-}
-
-std::uint64_t Reader::unsigned_int(const Token& t, const char* what) const {
-  std::uint64_t v = 0;
-  const char* b = t.text.data();
-  const char* e = b + t.text.size();
-  auto [ptr, ec] = std::from_chars(b, e, v);
-  if (ec == std::errc::result_out_of_range)
-    fail(t, std::string(what) + ": '" + std::string(t.text) + "' is too large");
-  if (ec != std::errc() || ptr != e)
-    fail(t, std::string(what) + ": expected a whole number >= 0, found '" + std::string(t.text) + "'");
-  return v;
-}
-
-std::string Reader::quoted(const Token& t, const char* what) const {
-  if (t.text.size() < 2 || t.text.front() != '"')
-    fail(t, std::string(what) + ": expected a string in double quotes, found '" + std::string(t.text) + "'");
-  std::string s;
-  s.reserve(t.text.size() - 2);
-  for (std::size_t i = 1; i + 1 < t.text.size(); ++i) {
-    if (t.text[i] == '\\') ++i;  // the tokenizer has checked the escape
-    s += t.text[i];
-  }
-  return s;
-}
-
-void Reader::expect_count(std::size_t n, const std::string& form) const {
-  if (tok_.size() < n)
-    fail(end_column(), "'" + std::string(tok_[0].text) + "' record is incomplete: expected '" + form + "'");
-  if (tok_.size() > n) fail(tok_[n], "unexpected '" + std::string(tok_[n].text) + "' after '" + form + "'");
-}
-
-void Reader::parse_header_line() {
-  if (text_.starts_with("\xEF\xBB\xBF"))
-    throw Error(Location{file_, 1, 1}, "the file starts with a UTF-8 byte-order mark: save it without one");
-  check_text(text_, file_);
-  if (!next_line()) line_no_ = 1;  // an empty file: point at its first line
-  if (line_no_ != 1 || tok_.empty() || tok_[0].text != "fcurves")
-    fail(1, "missing header: the first line must be 'fcurves " + std::to_string(kFcurvesVersion) +
-                "' (is this a .fcurves file?)");
-  if (tok_.size() < 2) fail(end_column(), "header: expected a version number after 'fcurves'");
-  const std::uint64_t version = unsigned_int(tok_[1], "format version");
-  if (version > static_cast<std::uint64_t>(kFcurvesVersion))
-    fail(tok_[1], "format version " + std::string(tok_[1].text) + " is newer than this reader (" +
-                      std::to_string(kFcurvesVersion) + "): upgrade Plumage to read it");
-  if (version < 1) fail(tok_[1], "format version must be 1 or more, found " + std::string(tok_[1].text));
-  expect_count(2, "fcurves VERSION");
-}
 
 void Reader::parse_albedo(Feather& f) {
   if (tok_.size() < 2) fail(end_column(), "albedo: expected 'color', 'texture', 'shaft' or 'scale'");
@@ -593,7 +422,7 @@ void Reader::parse_trailer() {
 
 Feather Reader::parse() {
   Feather f;
-  parse_header_line();
+  read_header("fcurves", kFcurvesVersion, "a .fcurves file");
   for (;;) {
     if (!next_line()) fail(end_column(), "missing 'end' at the end of the file (truncated file?)");
     if (tok_.empty()) continue;

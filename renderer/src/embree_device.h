@@ -35,6 +35,30 @@ struct FilterCandidate {
   glm::vec3 point() const { return o + t * d; }
 };
 
+// The RTCRay of a plumage Ray (its origin, direction and [tnear, tfar]), all
+// masks on, with ray id `id`.
+inline RTCRay rtc_ray(const Ray& ray, unsigned id = 0) {
+  RTCRay r;
+  r.org_x = ray.o.x, r.org_y = ray.o.y, r.org_z = ray.o.z;
+  r.dir_x = ray.d.x, r.dir_y = ray.d.y, r.dir_z = ray.d.z;
+  r.tnear = ray.tnear;
+  r.tfar = ray.tfar;
+  r.time = 0;
+  r.mask = 0xffffffffu;
+  r.id = id;
+  r.flags = 0;
+  return r;
+}
+
+// The same with an empty hit, for rtcIntersect1.
+inline RTCRayHit rtc_ray_hit(const Ray& ray, unsigned id = 0) {
+  RTCRayHit rh;
+  rh.ray = rtc_ray(ray, id);
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  return rh;
+}
+
 // Ray id bit: keep hits in the gaps (the structure AOV wants to see them).
 inline constexpr unsigned kKeepGapsId = 1u;
 

@@ -11,12 +11,12 @@ namespace plumage {
 
 namespace {
 // The view's exposure, or the one that develops the lit card to view.card_level.
-float exposure_for(const Scene& scene, const LightSet& lights, const ViewSpec& view) {
-  if (!(view.card_level > 0) || !scene.options().backdrop.enabled) return view.exposure;
-  const glm::vec3 centre(scene.feather_bounds().centre().x, scene.feather_bounds().centre().y, scene.backdrop_z());
+float exposure_for(const World& world, const LightSet& lights, const ViewSpec& view) {
+  if (!(view.card_level > 0) || !world.backdrop().enabled) return view.exposure;
+  const glm::vec3 centre(world.bounds().centre().x, world.bounds().centre().y, world.backdrop_z());
   glm::vec3 E(0);
   for (const SphereLight& l : lights.spheres()) E += sphere_light_irradiance(l, centre, {0, 0, 1});
-  const glm::vec3 card = scene.options().backdrop.albedo * E / std::numbers::pi_v<float>;
+  const glm::vec3 card = world.backdrop().albedo * E / std::numbers::pi_v<float>;
   const float level = luminance(card);
   return level > 0 ? std::log2(view.card_level / level) : view.exposure;
 }
@@ -51,14 +51,18 @@ FibreMaterial view_material(const Feather& feather, const ViewSpec& view, Shadin
 }
 
 Image render_view(const Scene& scene, const DomeRig& rig, const ViewSpec& view) {
-  const Bounds3f& fb = scene.feather_bounds();
-  const LightSet lights = view_lights(fb, rig, view);
   const FibreMaterial material = view_material(scene.feather(), view, scene.options().mode);
+  return render_view(World(scene, material), rig, view);
+}
+
+Image render_view(const World& world, const DomeRig& rig, const ViewSpec& view) {
+  const Bounds3f& fb = world.bounds();
+  const LightSet lights = view_lights(fb, rig, view);
   if (view.max_depth < 0) throw Error("--max-depth must be 0 or more");
   IntegratorSettings is;
   is.max_depth = view.max_depth;
   is.light_pick = view.light_pick;
-  const PathIntegrator integrator(scene, lights, material, is);
+  const PathIntegrator integrator(world, lights, is);
   const Camera camera(view.camera, view.width, view.height, fb);
   RenderSettings rs;
   rs.spp = view.spp;
@@ -70,7 +74,7 @@ Image render_view(const Scene& scene, const DomeRig& rig, const ViewSpec& view) 
   rs.allocation = view.allocation;
   rs.target_error = view.target_error;
   rs.min_spp = view.min_spp;
-  return render(camera, integrator, rs).developed(exposure_for(scene, lights, view));
+  return render(camera, integrator, rs).developed(exposure_for(world, lights, view));
 }
 
 }  // namespace plumage

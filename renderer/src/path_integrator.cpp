@@ -10,6 +10,7 @@
 #include "plumage/common/error.h"
 #include "plumage/renderer/diffuse_bsdf.h"
 #include "plumage/renderer/fibre_bsdf.h"
+#include "placed_bsdf.h"
 
 namespace plumage {
 namespace {
@@ -20,16 +21,16 @@ bool finite_nonneg(const glm::vec3& c) {
 
 // One shadow ray to light i, chosen with probability `pick`: its contribution
 // f cos Le / (pick pdf), MIS-weighted against BCSDF sampling (power heuristic).
-glm::vec3 direct_light(const Scene& scene, const LightSet& lights, const SurfaceHit& hit, const Bsdf& bsdf,
+glm::vec3 direct_light(const World& world, const LightSet& lights, const WorldHit& hit, const Bsdf& bsdf,
                        std::size_t i, float pick, const glm::vec2& u, PathCounters& counters) {
   const auto ls = lights.sample(i, hit.p, u);
   if (!ls || !(ls->pdf > 0) || !(pick > 0)) return glm::vec3(0);
   float pdf_bsdf = 0;
   const glm::vec3 fc = bsdf.f_cos(ls->wi, &pdf_bsdf);
   if (!(fc.x > 0 || fc.y > 0 || fc.z > 0)) return glm::vec3(0);
-  const Ray shadow = scene.spawn(hit, ls->wi, ls->dist * (1.0f - 1e-4f));
+  const Ray shadow = world.spawn(hit, ls->wi, ls->dist * (1.0f - 1e-4f));
   ++counters.shadow_rays;
-  if (scene.occluded(shadow)) return glm::vec3(0);
+  if (world.occluded(shadow)) return glm::vec3(0);
   const float pdf = ls->pdf * pick;
   const float w = ls->delta ? 1.0f : power_heuristic(pdf, pdf_bsdf);
   return fc * ls->Le * (w / pdf);
@@ -94,23 +95,38 @@ class LightChoice {
 
 PathIntegrator::PathIntegrator(const Scene& scene, const LightSet& lights, const FibreMaterial& material,
                                const IntegratorSettings& settings)
-    : scene_(scene), lights_(lights), material_(material), settings_(settings),
-      bsdf_pdf_needed_(lights.hit_by_sampled_rays()) {
+    : own_world_(std::make_unique<const World>(scene, material)), world_(*own_world_), lights_(lights),
+      settings_(settings), bsdf_pdf_needed_(lights.hit_by_sampled_rays()) {
+  make_shadings();
+}
+
+PathIntegrator::PathIntegrator(const World& world, const LightSet& lights, const IntegratorSettings& settings)
+    : world_(world), lights_(lights), settings_(settings), bsdf_pdf_needed_(lights.hit_by_sampled_rays()) {
+  make_shadings();
+}
+
+void PathIntegrator::make_shadings() {
   if (settings_.light_picks < 1) throw Error("light picks per vertex must be at least 1");
-  barbs_ = make_barb_shading({scene_, material_, bsdf_pdf_needed_});
+  for (const WorldFeather& f : world_.feathers())
+    barbs_.push_back(make_barb_shading({*f.scene, *f.material, bsdf_pdf_needed_}));
 }
 
 // A barb is shaded by its mode's model; the shaft is a round fibre and the card a
-// diffuse surface in every mode.
-const Bsdf& PathIntegrator::bsdf_at(const SurfaceHit& hit, const glm::vec3& wo, BsdfSlot& slot) const {
-  switch (hit.kind) {
-    case HitKind::Barb: return barbs_->at(hit, wo, slot);
-    case HitKind::Backdrop: return slot.emplace<DiffuseBsdf>(safe_normalize(hit.ng), wo, scene_.options().backdrop.albedo);
-    case HitKind::Shaft:
-    case HitKind::None: break;
-  }
-  return slot.emplace<FibreBsdf>(round_fibre_frame_at(scene_, hit, wo), material_.at_shaft(hit.p, scene_.curve_parameter(hit)), wo,
-                                 bsdf_pdf_needed_);
+// diffuse surface in every mode. A placed feather is shaded in its own frame.
+const Bsdf& PathIntegrator::bsdf_at(const WorldHit& hit, const glm::vec3& wo, BsdfSlot& slot, BsdfSlot& local) const {
+  if (hit.local.kind == HitKind::Backdrop)
+    return slot.emplace<DiffuseBsdf>(safe_normalize(hit.local.ng), wo, world_.backdrop().albedo);
+  const glm::mat3* turn = world_.rotation(hit.placement);
+  const glm::vec3 wl = turn ? glm::transpose(*turn) * wo : wo;
+  BsdfSlot& target = turn ? local : slot;
+  const WorldFeather& f = world_.feather_of(hit);
+  const Bsdf& b = hit.local.kind == HitKind::Barb
+                      ? barbs_[world_.placed_feather(hit.placement)]->at(hit.local, wl, target)
+                      : target.emplace<FibreBsdf>(round_fibre_frame_at(*f.scene, hit.local, wl),
+                                                  f.material->at_shaft(hit.local.p, f.scene->curve_parameter(hit.local)),
+                                                  wl, bsdf_pdf_needed_);
+  if (!turn) return b;
+  return slot.emplace<PlacedBsdf>(b, *turn);
 }
 
 glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& counters) const {
@@ -120,8 +136,8 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
   float prev_pdf = 0;      // pdf of the BCSDF sample that made `ray`
   bool from_camera = true; // no MIS for what the camera sees directly
   for (int depth = 0;; ++depth) {
-    SurfaceHit hit;
-    const bool found = scene_.intersect(ray, hit);
+    WorldHit hit;
+    const bool found = world_.intersect(ray, hit);
     ++counters.rays;
     // Secondary rays start behind their true origin (Scene::spawn); lights are
     // intersected from the true origin so their pdfs match light sampling.
@@ -145,8 +161,8 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
     if (depth >= settings_.max_depth) break;
 
     const glm::vec3 wo = -ray.d;
-    BsdfSlot slot;
-    const Bsdf& bsdf = bsdf_at(hit, wo, slot);
+    BsdfSlot slot, local_slot;
+    const Bsdf& bsdf = bsdf_at(hit, wo, slot, local_slot);
 
     // Next-event estimation (settings_.light_pick): one light chosen uniformly or
     // by its estimate, or every light; one shadow ray each. A constant
@@ -159,7 +175,7 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
         glm::vec4 u = ul;
         for (std::size_t i = 0; i < n_lights; ++i) {
           if (i > 0) u = sampler.next4();
-          L += beta * direct_light(scene_, lights_, hit, bsdf, i, 1.0f, {u.y, u.z}, counters);
+          L += beta * direct_light(world_, lights_, hit, bsdf, i, 1.0f, {u.y, u.z}, counters);
         }
       } else {
         if (settings_.light_pick == LightPick::Estimate) pick.estimate(lights_, hit.p, bsdf);
@@ -168,7 +184,7 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
         for (int k = 0; k < picks; ++k) {
           const glm::vec2 us = k > 0 ? sampler.next2() : glm::vec2(ul.y, ul.z);
           const std::size_t i = pick.choose((ul.x + float(k)) / float(picks));
-          L += beta * direct_light(scene_, lights_, hit, bsdf, i, pick.prob(i), us, counters);
+          L += beta * direct_light(world_, lights_, hit, bsdf, i, pick.prob(i), us, counters);
         }
       }
     }
@@ -187,7 +203,7 @@ glm::vec3 PathIntegrator::Li(Ray ray, PixelSampler& sampler, PathCounters& count
       beta /= q;
     }
     if (!(beta.x > 0 || beta.y > 0 || beta.z > 0)) break;
-    ray = scene_.spawn(hit, bs->wi);
+    ray = world_.spawn(hit, bs->wi);
   }
   if (!finite_nonneg(L)) {
     ++counters.bad_samples;

@@ -40,17 +40,7 @@ struct SceneFilter {
 
 bool Scene::intersect(const Ray& ray, SurfaceHit& hit, bool keep_gaps) const {
   SceneFilter ctx(this, &ray);
-  RTCRayHit rh;
-  rh.ray.org_x = ray.o.x; rh.ray.org_y = ray.o.y; rh.ray.org_z = ray.o.z;
-  rh.ray.dir_x = ray.d.x; rh.ray.dir_y = ray.d.y; rh.ray.dir_z = ray.d.z;
-  rh.ray.tnear = ray.tnear;
-  rh.ray.tfar = ray.tfar;
-  rh.ray.time = 0;
-  rh.ray.mask = 0xffffffffu;
-  rh.ray.id = keep_gaps ? kKeepGapsId : 0;
-  rh.ray.flags = 0;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  RTCRayHit rh = rtc_ray_hit(ray, keep_gaps ? kKeepGapsId : 0);
   rtcIntersect1(rtc_->scene, &ctx.rtc, &rh);
   flush_gap_rejections();
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
@@ -76,15 +66,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit, bool keep_gaps) const {
 
 bool Scene::occluded(const Ray& ray) const {
   SceneFilter ctx(this, &ray);
-  RTCRay r;
-  r.org_x = ray.o.x; r.org_y = ray.o.y; r.org_z = ray.o.z;
-  r.dir_x = ray.d.x; r.dir_y = ray.d.y; r.dir_z = ray.d.z;
-  r.tnear = ray.tnear;
-  r.tfar = ray.tfar;
-  r.time = 0;
-  r.mask = 0xffffffffu;
-  r.id = 0;
-  r.flags = 0;
+  RTCRay r = rtc_ray(ray);
   rtcOccluded1(rtc_->scene, &ctx.rtc, &r);
   flush_gap_rejections();
   return r.tfar < 0;  // Embree sets tfar = -inf on occlusion

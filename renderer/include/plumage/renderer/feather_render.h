@@ -19,6 +19,7 @@
 #include "plumage/renderer/render.h"
 #include "plumage/renderer/sampler.h"
 #include "plumage/renderer/scene.h"
+#include "plumage/renderer/world.h"
 
 namespace plumage {
 
@@ -73,5 +74,9 @@ FibreMaterial view_material(const Feather& feather, const ViewSpec& view, Shadin
 // Renders `scene` under `rig` as `view` says and returns the image scaled by
 // 2^exposure. Throws plumage::Error for bad settings (see render(), Camera).
 Image render_view(const Scene& scene, const DomeRig& rig, const ViewSpec& view);
+// The same for a world of placed feathers (world.h), each with the material its
+// WorldFeather gives (view.hair and view.sigma_a are the caller's to apply), the
+// rig standing under the world's bounds and the camera framing them.
+Image render_view(const World& world, const DomeRig& rig, const ViewSpec& view);
 
 }  // namespace plumage

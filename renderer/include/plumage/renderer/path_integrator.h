@@ -16,6 +16,7 @@
 #include "plumage/renderer/light_set.h"
 #include "plumage/renderer/sampler.h"
 #include "plumage/renderer/scene.h"
+#include "plumage/renderer/world.h"
 
 namespace plumage {
 
@@ -42,20 +43,26 @@ class PathIntegrator {
   // reads from the cache) each vane's table for the material at the feather's centre.
   PathIntegrator(const Scene& scene, const LightSet& lights, const FibreMaterial& material,
                  const IntegratorSettings& settings);
+  // The same over a world of placed feathers (world.h), each shaded with its own
+  // material; farfield mode fits each distinct feather's tables.
+  PathIntegrator(const World& world, const LightSet& lights, const IntegratorSettings& settings);
 
   // Radiance arriving along -ray.d at ray.o. Non-finite or negative estimates are
   // counted in `counters.bad_samples` and returned as zero.
   glm::vec3 Li(Ray ray, PixelSampler& sampler, PathCounters& counters) const;
 
  private:
-  const Bsdf& bsdf_at(const SurfaceHit& hit, const glm::vec3& wo, BsdfSlot& slot) const;
+  // The hit's Bsdf in world directions; a placed feather's is built in `local`
+  // and wrapped in `slot` (placed_bsdf.h).
+  const Bsdf& bsdf_at(const WorldHit& hit, const glm::vec3& wo, BsdfSlot& slot, BsdfSlot& local) const;
+  void make_shadings();
 
-  const Scene& scene_;
+  std::unique_ptr<const World> own_world_;  // the one-feather world of the Scene constructor
+  const World& world_;
   const LightSet& lights_;
-  const FibreMaterial& material_;
   IntegratorSettings settings_;
   bool bsdf_pdf_needed_;  // MIS weighs BCSDF-sampled rays that reach a light (LightSet::hit_by_sampled_rays)
-  std::unique_ptr<const BarbShading> barbs_;  // the scene's shading mode's model
+  std::vector<std::unique_ptr<const BarbShading>> barbs_;  // per distinct feather: its shading mode's model
 };
 
 // Veach's power heuristic (beta = 2) for one sample of each of two strategies.

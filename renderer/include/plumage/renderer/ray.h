@@ -20,7 +20,12 @@ struct Ray {
   std::uint32_t skip_geom = kNoId;
   std::uint32_t skip_curve = kNoId;
   float skip_until = 0;
+  // A world of many feathers (world.h): the placement the skip applies in
+  // (kWorldCard: the world's card); kNoId for a ray of one feather's Scene.
+  std::uint32_t skip_placement = kNoId;
 };
+
+inline constexpr std::uint32_t kWorldCard = kNoId - 1;
 
 // How far a ray from p along unit direction d travels before it is outside the
 // infinite tube of radius R around the line through c along `axis` (any length):

@@ -114,6 +114,7 @@ class Scene {
   const Bounds3f& scene_bounds() const { return scene_bounds_; }
   float backdrop_z() const { return backdrop_z_; }
   float max_barb_radius() const { return max_barb_radius_; }
+  float max_radius() const { return max_radius_; }  // of every curve, the shaft's included
   // Curves left out of the BVH by SceneOptions::cull.
   std::size_t culled_curves() const { return culled_; }
 
