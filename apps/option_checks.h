@@ -237,6 +237,32 @@ inline CLI::Validator resolution() {
       "WIDTHxHEIGHT", "RESOLUTION");
 }
 
+// --tile I/N: part I (1-based) of N, 1 <= I <= N <= kMaxTiles. Parsed into
+// 0-based index and count; false when the text is not of that form.
+inline constexpr int kMaxTiles = 4096;
+inline bool parse_tile(const std::string& text, int& index, int& count) {
+  const std::size_t slash = text.find('/');
+  if (slash == std::string::npos || slash == 0 || slash + 1 == text.size()) return false;
+  const std::string a = text.substr(0, slash), b = text.substr(slash + 1);
+  if (a.find_first_not_of("0123456789") != std::string::npos || b.find_first_not_of("0123456789") != std::string::npos ||
+      a.size() > 5 || b.size() > 5)
+    return false;
+  const int i = std::stoi(a), n = std::stoi(b);
+  if (!(i >= 1 && n >= 1 && i <= n && n <= kMaxTiles)) return false;
+  index = i - 1;
+  count = n;
+  return true;
+}
+inline CLI::Validator tile_part() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        int i = 0, n = 0;
+        return parse_tile(text, i, n) ? std::string()
+                                      : "'" + text + "' is not I/N with 1 <= I <= N <= " + std::to_string(kMaxTiles) + " (e.g. 2/8)";
+      },
+      "I/N", "TILE");
+}
+
 // An output image named by -o: its extension picks the format, one of `exts`.
 // The message of a usage error, or "" when the name is fine.
 inline std::string image_output_problem(const std::string& output, std::initializer_list<const char*> exts) {

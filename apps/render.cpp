@@ -38,6 +38,7 @@ struct Options {
   MaterialOptions material;
   std::string aov;
   SubstructureOverrides substructure;
+  std::string tile;  // --tile I/N: one part of a split render
   // The view flags given on the command line: a scene's camera and lights yield to them.
   std::set<std::string> given;
 };
@@ -122,6 +123,12 @@ int run_render(const Options& o) {
   if (o.aov == "structure" && mode != ShadingMode::Substructure && mode != ShadingMode::Explicit)
     throw UsageError("--aov structure shows rami and barbules: give --shading substructure or explicit");
   ViewSpec view = o.view.view_spec(o.input, !global_options().quiet);
+  if (!o.tile.empty()) {
+    if (std::filesystem::path(o.output).extension() != ".exr")
+      throw UsageError("--tile writes a part for `plumage merge`: give -o PART.exr (linear floats, merged bit for bit)");
+    if (!o.aov.empty()) throw UsageError("--tile splits the beauty image; leave out --aov");
+    parse_tile(o.tile, view.tile_index, view.tile_count);  // tile_part() checked the form
+  }
   add_lights_and_material(o, view);  // its usage errors before any file is read
   if (std::filesystem::path(o.input).extension() == ".fscene") return run_render_scene(o, view, mode);
   const DomeRig rig = o.view.read_rig();
@@ -177,6 +184,8 @@ const Registration kRender{
       sub.add_option("input", o->input, "Feather curve file (.fcurves) or scene of many feathers (.fscene)")->required();
       sub.add_option("-o,--output", o->output, "Output image: .exr (linear float) or .png (sRGB 8-bit)")->required();
       add_shading_option(sub, o->shading, "Barb shading: hair (fibres, production practice), substructure (Baron et al. 2021; docs/substructure.md) explicit (rami and barbules as real curves: the slow reference) or farfield (ribbons shaded by a table measured on the explicit geometry; fitted once, cached in $PLUMAGE_FARFIELD_CACHE)");
+      sub.add_option("--tile", o->tile, "Render part I of N of the image (rows split in N bands; the other rows stay 0) into an .exr; `plumage merge` joins the N parts into the image one run gives, bit for bit (docs/rendering.md, \"Split renders\")")
+          ->check(tile_part());
       sub.add_option("--aov", o->aov, "Write an AOV instead of the beauty image: 'structure' colours ramus, distal and proximal barbules and gaps (needs --shading substructure or explicit)")
           ->check(one_of({"structure"}));
       o->substructure.add_to(sub);

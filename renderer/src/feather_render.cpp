@@ -74,6 +74,8 @@ Image render_view(const World& world, const DomeRig& rig, const ViewSpec& view) 
   rs.allocation = view.allocation;
   rs.target_error = view.target_error;
   rs.min_spp = view.min_spp;
+  rs.tile_index = view.tile_index;
+  rs.tile_count = view.tile_count;
   return render(camera, integrator, rs).developed(exposure_for(world, lights, view));
 }
 

@@ -88,10 +88,48 @@ std::vector<int> allocate_samples(const std::vector<double>& variance, const std
   return n;
 }
 
+TileRows tile_rows(int height, int index, int count) {
+  const auto at = [&](int k) { return int((std::int64_t(height) * k) / count); };
+  return {at(index), at(index + 1)};
+}
+
+Image merge_tiles(const std::vector<Image>& parts) {
+  if (parts.empty()) throw Error("no parts to merge");
+  const Image& first = parts.front();
+  Image out(first.width, first.height, first.channels);
+  const int n = int(parts.size());
+  for (int k = 0; k < n; ++k) {
+    const Image& p = parts[std::size_t(k)];
+    const std::string which = "part " + std::to_string(k + 1) + " of " + std::to_string(n);
+    if (p.width != first.width || p.height != first.height || p.channels != first.channels)
+      throw Error(which + " is " + std::to_string(p.width) + "x" + std::to_string(p.height) + " with " +
+                  std::to_string(p.channels) + " channels, part 1 " + std::to_string(first.width) + "x" +
+                  std::to_string(first.height) + " with " + std::to_string(first.channels) +
+                  ": merge the parts of one render");
+    const TileRows rows = tile_rows(p.height, k, n);
+    for (int y = 0; y < p.height; ++y) {
+      const bool mine = y >= rows.first && y < rows.last;
+      for (int x = 0; x < p.width; ++x)
+        for (int c = 0; c < p.channels; ++c) {
+          const float v = p.at(x, y)[c];
+          if (mine)
+            out.at(x, y)[c] = v;
+          else if (v != 0)
+            throw Error(which + " has a pixel at row " + std::to_string(y + 1) + ", outside its rows " +
+                        std::to_string(rows.first + 1) + "-" + std::to_string(rows.last) +
+                        ": give the parts in the order I = 1..N of --tile I/N, all with the same N");
+        }
+    }
+  }
+  return out;
+}
+
 Film render(const Camera& camera, const PathIntegrator& integrator, const RenderSettings& settings) {
   if (settings.spp < 1) throw Error("--spp must be at least 1");
   if (settings.threads < 0) throw Error("--threads must be 0 (all cores) or more");
   if (settings.tile_size < 1) throw Error("tile size must be at least 1");
+  if (!(settings.tile_count >= 1 && settings.tile_index >= 0 && settings.tile_index < settings.tile_count))
+    throw Error("--tile I/N needs 1 <= I <= N");
   if (settings.adaptive) {
     if (!(settings.target_error > 0)) throw Error("--target-error must be a positive fraction, e.g. 0.02");
     if (settings.min_spp < 2) throw Error("adaptive sampling needs a minimum of at least 2 samples per pixel");
@@ -102,6 +140,8 @@ Film render(const Camera& camera, const PathIntegrator& integrator, const Render
   const std::size_t P = std::size_t(W) * std::size_t(H);
   const bool allocate = settings.allocation == SampleAllocation::Variance && !settings.adaptive && settings.spp >= 8;
   const int pilot = allocate ? settings.spp / 4 : settings.spp;
+  const TileRows rows = tile_rows(H, settings.tile_index, settings.tile_count);
+  const auto outside = [&](std::size_t i) { return int(i / std::size_t(W)) < rows.first || int(i / std::size_t(W)) >= rows.last; };
   Film film(W, H);
   ProgressBar progress("Rendering", std::uint64_t(tiles_x) * tiles_y * (allocate ? 2 : 1), !settings.progress);
 
@@ -110,6 +150,10 @@ Film render(const Camera& camera, const PathIntegrator& integrator, const Render
   std::vector<int> taken(P, 0);
   std::vector<double> variance(allocate ? P : 0), cost(allocate ? P : 0);
   std::vector<int> target(P, pilot);
+  // A part renders its rows only, but the pilot everywhere (allocation needs it all).
+  if (!allocate)
+    for (std::size_t i = 0; i < P; ++i)
+      if (outside(i)) target[i] = 0;
 
   const auto start = std::chrono::steady_clock::now();
   // Takes pixel samples taken[i] .. target[i]-1 over one tile.
@@ -171,13 +215,16 @@ Film render(const Camera& camera, const PathIntegrator& integrator, const Render
   pass(true);
   if (allocate) {
     target = allocate_samples(variance, cost, W, H, settings.spp, pilot);
+    for (std::size_t i = 0; i < P; ++i)
+      if (outside(i)) target[i] = 0;
     pass(false);
   }
   progress.finish();
   std::int64_t samples = 0;
   for (std::size_t i = 0; i < P; ++i) {
     samples += taken[i];
-    film.set(int(i % std::size_t(W)), int(i / std::size_t(W)), glm::vec3(sum[i] / double(std::max(taken[i], 1))));
+    if (!outside(i))
+      film.set(int(i % std::size_t(W)), int(i / std::size_t(W)), glm::vec3(sum[i] / double(std::max(taken[i], 1))));
   }
   g_samples += samples;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

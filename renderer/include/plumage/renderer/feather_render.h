@@ -57,6 +57,7 @@ struct ViewSpec {
   float target_error = 0.02f;
   int min_spp = 16;
   LightPick light_pick = IntegratorSettings{}.light_pick;  // next-event estimation's choice of light
+  int tile_index = 0, tile_count = 1;  // RenderSettings: one part of a split render
 };
 
 // The lights of `view`: the rig's selected LEDs, the rig standing on the

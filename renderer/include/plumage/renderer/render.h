@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "plumage/common/image.h"
 #include "plumage/renderer/camera.h"
 #include "plumage/renderer/film.h"
 #include "plumage/renderer/path_integrator.h"
@@ -52,9 +53,28 @@ struct RenderSettings {
   int check_every = 8;
   // Ignored with `adaptive`, and below 8 spp (too few for a pilot).
   SampleAllocation allocation = SampleAllocation::Variance;
+  // A split render (docs/rendering.md, "Split renders"): part tile_index of
+  // tile_count renders only the rows tile_rows() gives it; every other pixel is 0.
+  // Its pixels are the single render's, bit for bit: each pixel's samples come from
+  // its own stream, and variance allocation's pilot still covers the whole image
+  // (each part pays that quarter of the samples everywhere).
+  int tile_index = 0;
+  int tile_count = 1;
 };
 
-// Throws plumage::Error for spp < 1, threads < 0, tile_size < 1 or bad adaptive settings.
+// The rows [first, last) part `index` of `count` renders of an image `height` rows tall.
+struct TileRows {
+  int first, last;
+};
+TileRows tile_rows(int height, int index, int count);
+// The image the parts make together: part k (in the order given, k = 0 .. N-1)
+// gives the rows tile_rows(H, k, N). Throws plumage::Error for no parts, parts of
+// different sizes or channels, or a part with a non-zero pixel outside its rows
+// (parts out of order, or from another N), naming the part.
+Image merge_tiles(const std::vector<Image>& parts);
+
+// Throws plumage::Error for spp < 1, threads < 0, tile_size < 1, a tile outside
+// 0 <= tile_index < tile_count or bad adaptive settings.
 Film render(const Camera& camera, const PathIntegrator& integrator, const RenderSettings& settings);
 
 }  // namespace plumage
