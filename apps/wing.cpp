@@ -1,0 +1,96 @@
+// `plumage wing`: a bird's wing as a .fscene of placed feathers (docs/wing.md),
+// its distinct feathers written as .fcurves files beside it.
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "command.h"
+#include "option_checks.h"
+#include "plumage/common/atomic_file.h"
+#include "plumage/common/curve_format.h"
+#include "plumage/common/error.h"
+#include "plumage/common/progress.h"
+#include "plumage/common/scene_format.h"
+#include "plumage/generator/builder.h"
+#include "plumage/generator/wing.h"
+
+namespace plumage::cli {
+namespace {
+
+struct WingArgs {
+  std::string output, preset = "rock-dove";
+  std::uint64_t seed = 1;
+  double fold = 0;
+  bool folded = false, pair = false, list = false;
+};
+
+int run_wing(const WingArgs& a) {
+  if (a.list) {
+    for (const std::string& p : wing_presets()) std::cout << p << "\n";
+    return 0;
+  }
+  if (a.output.empty()) throw UsageError("no output file: give -o wing.fscene");
+  const std::filesystem::path out(a.output);
+  if (out.extension() != ".fscene") throw UsageError("-o " + a.output + ": the output is a scene, NAME.fscene");
+  if (a.folded && a.fold != 0) throw UsageError("--folded is --fold 1; give one of them");
+  WingOptions o;
+  o.preset = a.preset;
+  o.seed = a.seed;
+  o.fold = a.folded ? 1.0 : a.fold;
+  o.pair = a.pair;
+  const Wing wing = build_wing(o);
+  // The feathers go to NAME_feathers/ beside the scene: all files or none.
+  const std::string folder = out.stem().string() + "_feathers";
+  const std::filesystem::path dir = (out.parent_path().empty() ? std::filesystem::path(".") : out.parent_path()) / folder;
+  const bool made_dir = std::filesystem::create_directory(dir);
+  try {
+    FileBatch batch;
+    ProgressBar progress("Feathers", wing.feathers.size(), global_options().quiet);
+    std::size_t barbs = 0;
+    for (std::size_t i = 0; i < wing.feathers.size(); ++i) {
+      const WingFeather& f = wing.feathers[i];
+      const Feather feather = build_feather(f.params, a.seed * 1000 + i, "wing:" + a.preset + ":" + f.name);
+      barbs += feather.count(CurveKind::Barb);
+      write_fcurves(batch, dir / (f.name + ".fcurves"), feather);
+      progress.advance();
+    }
+    progress.finish();
+    batch.stage_text(out, format_fscene(wing_scene(wing, o, folder)));
+    batch.commit();
+    if (!global_options().quiet)
+      std::cout << "wrote " << a.output << ": " << wing.description << "; " << wing.feathers.size()
+                << " distinct feathers in " << (dir).string() << "/, " << (o.pair ? 2 : 1) * wing.feathers.size()
+                << " placements, " << (o.pair ? 2 : 1) * barbs << " barbs over all placements\n";
+  } catch (...) {
+    std::error_code ec;
+    if (made_dir) std::filesystem::remove(dir, ec);  // only if still empty
+    throw;
+  }
+  return 0;
+}
+
+const Registration kWing{
+    "wing", "Build a bird's wing (primaries, secondaries, two covert rows, spread or folded) as a .fscene of placed feathers",
+    [](CLI::App& sub) {
+      auto a = std::make_shared<WingArgs>();
+      sub.footer(
+          "Each feather's parameters are interpolated between key feathers along its row (Chen et al. 2002);\n"
+          "the distinct feathers are written as .fcurves in NAME_feathers/ beside the scene, and --pair adds the\n"
+          "other wing as the mirror image of the first, sharing the same feathers (instanced when rendered).\n"
+          "Example: plumage wing -o wing.fscene --pair && plumage render wing.fscene -o wing.png --resolution 1280x720\n"
+          "See docs/wing.md and docs/scene-format.md.");
+      sub.add_option("-o,--output", a->output, "Output scene (.fscene)");
+      sub.add_option("--preset", a->preset, "Wing preset (--list-presets)")->capture_default_str();
+      sub.add_option("--seed", a->seed, "Seed of the feathers (feather i gets SEED x 1000 + i)")->capture_default_str();
+      sub.add_option("--fold", a->fold, "0 spread .. 1 folded: how far the elbow and wrist are closed")
+          ->capture_default_str()
+          ->check(in_range(0, 1));
+      sub.add_flag("--folded", a->folded, "The folded wing (--fold 1)");
+      sub.add_flag("--pair", a->pair, "Add the left wing, the mirror image of the right sharing its feathers");
+      sub.add_flag("--list-presets", a->list, "List the wing presets");
+      return [a] { return run_wing(*a); };
+    }};
+
+}  // namespace
+}  // namespace plumage::cli
