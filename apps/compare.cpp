@@ -17,6 +17,7 @@
 #include "plumage/common/error.h"
 #include "plumage/common/image.h"
 #include "plumage/renderer/feather_render.h"
+#include "plumage/pipeline/feather_scene.h"
 #include "plumage/pipeline/photo_comparison.h"
 #include "plumage/renderer/panel_layout.h"
 
@@ -35,10 +36,29 @@ std::filesystem::path with_suffix(const std::filesystem::path& p, const std::str
   return p.parent_path() / (p.stem().string() + suffix + p.extension().string());
 }
 
+// `plumage compare scene.fscene`: the placed feathers in hair and substructure shading.
+int run_compare_scene(const Options& o, ViewSpec view) {
+  if (o.light_sequence) throw UsageError("--light-sequence works on one feather; compare a .fcurves file for it");
+  if (o.view.cull) throw UsageError("--cull works on one feather; leave it out for a .fscene");
+  LoadedScene loaded = load_scene(o.input);
+  o.view.apply_scene(loaded.scene, view);
+  const DomeRig rig = o.view.read_rig_for(view, o.input);
+  for (Feather& f : loaded.feathers) o.substructure.apply(f);
+  Image photo;
+  if (!o.photo.empty()) photo = read_image(o.photo);
+  std::vector<Panel> panels;
+  if (!photo.empty()) panels.push_back({scale_to_height(photo, view.height), "photo"});
+  for (Panel& p : render_scene_both_modes(loaded, o.view.scene_options(view, rig), rig, view)) panels.push_back(std::move(p));
+  write_image(o.output, side_by_side(panels));
+  if (!global_options().quiet) std::cerr << "wrote " << o.output << "\n";
+  return 0;
+}
+
 int run_compare(const Options& o) {
   const ViewSpec view = o.view.view_spec(o.input, !global_options().quiet);
   if (const std::string bad = image_output_problem(o.output, {".png", ".exr", ".jpg", ".tif"}); !bad.empty())
     throw UsageError(bad);
+  if (std::filesystem::path(o.input).extension() == ".fscene") return run_compare_scene(o, view);
 
   const DomeRig rig = o.view.read_rig();
   Feather feather = read_fcurves(o.input);
@@ -78,10 +98,12 @@ const Registration kCompare{
       sub.footer(
           "Both panels share the camera (auto-framed top view unless --camera-pos), lights, samples, seed\n"
           "and exposure; --cull leaves out the curves neither panel can show (docs/skip-work.md).\n"
+          "A .fscene compares its placed feathers (docs/scene-format.md); its camera and lights apply where no flag sets them.\n"
           "Example: plumage compare feather.fcurves --photo feather.jpg -o side_by_side.png --spp 64\n"
           "         plumage compare feather.fcurves --light-sequence --resolution 160x240 -o seq.png\n"
           "See docs/substructure.md.");
-      sub.add_option("input", o->input, "Feather curve file (.fcurves)")->required();
+      sub.add_option("input", o->input, "Feather curve file (.fcurves) or scene of many feathers (.fscene)")->required();
+      o->view.record_given(sub);
       sub.add_option("-o,--output", o->output, "Output image (.png sRGB or .exr linear); with --light-sequence, "
                                                "NAME_hair.png and NAME_substructure.png")->required();
       sub.add_option("--photo", o->photo, "Photograph of the feather, shown first (scaled to the panel height)");

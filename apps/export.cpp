@@ -116,6 +116,9 @@ const Registration kExport{
         if (!scene_format && !args->scene_options_given.empty())
           throw UsageError(args->scene_options_given.front() + " sets the scene, and " + to_string(format) +
                            " holds only the curves: leave it out or export a scene format");
+        if (std::filesystem::path(args->input).extension() == ".fscene")
+          throw UsageError(args->input + ": export writes one feather; export each .fcurves a scene names "
+                           "(docs/scene-format.md), a scene of many feathers is not exported yet");
         Feather feather = read_fcurves(args->input);
         args->substructure.apply(feather);
         const ExportScene scene = scene_format ? scene_for(*args, feather, out) : ExportScene{};

@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -39,34 +38,15 @@ struct Options {
   std::string aov;
   SubstructureOverrides substructure;
   std::string tile;  // --tile I/N: one part of a split render
-  // The view flags given on the command line: a scene's camera and lights yield to them.
-  std::set<std::string> given;
 };
-
-constexpr const char* kSceneViewFlags[] = {"--camera-pos", "--look-at", "--up", "--fov", "--lights"};
-bool given(const Options& o, const char* flag) { return o.given.count(flag) > 0; }
-
-// A .fscene's camera and LEDs, where the command line does not set them.
-void apply_scene_view(const Options& o, const FeatherScene& scene, ViewSpec& view) {
-  if (scene.camera.position && !given(o, "--camera-pos")) view.camera.position = scene.camera.position;
-  if (scene.camera.look_at && !given(o, "--look-at")) view.camera.look_at = scene.camera.look_at;
-  if (scene.camera.up && !given(o, "--up")) view.camera.up = *scene.camera.up;
-  if (scene.camera.fov_deg && !given(o, "--fov")) view.camera.fov_deg = *scene.camera.fov_deg;
-  if (scene.lights && !given(o, "--lights")) view.lights = *scene.lights;
-}
 
 // `plumage render scene.fscene`: every distinct feather built once, placed as the scene says.
 int run_render_scene(const Options& o, ViewSpec view, ShadingMode mode) {
   if (!o.aov.empty()) throw UsageError("--aov works on one feather; render a .fcurves file for it");
   if (o.view.cull) throw UsageError("--cull works on one feather; leave it out for a .fscene");
   LoadedScene loaded = load_scene(o.input);
-  apply_scene_view(o, loaded.scene, view);
-  const DomeRig rig = o.view.read_rig();
-  try {
-    (void)light_ranges(view.lights, int(rig.leds.size()));
-  } catch (const Error& e) {
-    throw Error(o.input + ": lights: " + e.what());
-  }
+  o.view.apply_scene(loaded.scene, view);
+  const DomeRig rig = o.view.read_rig_for(view, o.input);
   for (Feather& f : loaded.feathers) {
     o.substructure.apply(f);
     if (mode == ShadingMode::Explicit) check_explicit_fits(f);
@@ -170,10 +150,7 @@ int run_render(const Options& o) {
 const Registration kRender{
     "render", "Path trace a feather curve file to an image (EXR linear / PNG sRGB)", [](CLI::App& sub) {
       auto o = std::make_shared<Options>();
-      sub.parse_complete_callback([o, &sub] {
-        for (const char* flag : kSceneViewFlags)
-          if (sub.count(flag) > 0) o->given.insert(flag);
-      });
+      o->view.record_given(sub);
       sub.footer(
           "A .fscene input renders many feathers, each distinct one built once (docs/scene-format.md); its\n"
           "camera and lights records apply where --camera-pos, --look-at, --up, --fov and --lights are not given.\n"

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <regex>
+#include <set>
 #include <filesystem>
 #include <sstream>
 #include <string>
@@ -18,6 +19,7 @@
 #include "command.h"
 #include "option_checks.h"
 #include "plumage/common/error.h"
+#include "plumage/common/scene_format.h"
 #include "plumage/renderer/feather_render.h"
 #include "plumage/renderer/view_cull.h"
 
@@ -105,6 +107,9 @@ struct ViewOptions {
   float margin = 0.05f;
 
   std::string resolution_form;  // what --resolution wants, for its error message
+  // The view flags given on the command line (record_given): a scene's own camera
+  // and lights (.fscene) yield to them.
+  std::set<std::string> given;
 
   ViewOptions(std::string default_resolution, std::string form)
       : resolution(std::move(default_resolution)), resolution_form(std::move(form)) {}
@@ -223,6 +228,37 @@ struct ViewOptions {
             ->check(in_range(0, 10));
     }
     return nullptr;
+  }
+
+  // Remembers which of the flags a .fscene's camera and lights records stand for
+  // were given, once `app` has parsed its command line.
+  void record_given(CLI::App& app) {
+    app.parse_complete_callback([this, &app] {
+      for (const char* flag : {"--camera-pos", "--look-at", "--up", "--fov", "--lights"})
+        if (app.count(flag) > 0) given.insert(flag);
+    });
+  }
+
+  // A .fscene's camera and LEDs, where the command line does not set them.
+  void apply_scene(const FeatherScene& scene, ViewSpec& view) const {
+    const auto set = [&](const char* flag) { return given.count(flag) > 0; };
+    if (scene.camera.position && !set("--camera-pos")) view.camera.position = scene.camera.position;
+    if (scene.camera.look_at && !set("--look-at")) view.camera.look_at = scene.camera.look_at;
+    if (scene.camera.up && !set("--up")) view.camera.up = *scene.camera.up;
+    if (scene.camera.fov_deg && !set("--fov")) view.camera.fov_deg = *scene.camera.fov_deg;
+    if (scene.lights && !set("--lights")) view.lights = *scene.lights;
+  }
+
+  // The rig for a .fscene `file` whose LED selection `view` now holds (the scene's
+  // or --lights), checked against the rig's LEDs.
+  DomeRig read_rig_for(const ViewSpec& view, const std::string& file) const {
+    DomeRig r = read_rig();
+    try {
+      (void)light_ranges(view.lights, int(r.leds.size()));
+    } catch (const Error& e) {
+      throw Error(file + ": lights: " + e.what());
+    }
+    return r;
   }
 
   // --rig, or the built-in dome.

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The main job on a built-in default: installs what is missing, builds, generates
 # a preset feather, renders it with hair and substructure shading side by side,
-# renders a scene of several placed feathers (data/scenes/feather-fan.fscene), and
-# says where everything went.
+# renders a pair of rock-dove wings (plumage wing --pair) beside it, and says where
+# everything went.
 #   scripts/demo.sh                  the Osprey wing covert preset
 #   PRESET=rock-dove-wing scripts/demo.sh
 #   scripts/demo.sh PHOTO            photo-to-feather on PHOTO (MM_PER_PX=0.08 SPP=32 optional)
@@ -31,10 +31,11 @@ preset=${PRESET:-osprey-wing-covert}
 if "$plumage" --help | grep -q "compare"; then
   # Hair and substructure shading side by side: same camera, dome LEDs, samples, exposure.
   "$plumage" compare "$out/feather.fcurves" --spp ${SPP:-32} -o "$out/side_by_side.png"
-  # Many feathers in one scene, each distinct one built once (docs/scene-format.md).
-  "$plumage" info data/scenes/feather-fan.fscene
-  "$plumage" render data/scenes/feather-fan.fscene --spp ${SPP:-16} --resolution 960x640 -o "$out/fan.png"
-  echo "demo: wrote $out/feather.fcurves, $out/preview.png, the side-by-side $out/side_by_side.png and the scene of five placed feathers $out/fan.png"
+  # A pair of wings, each distinct feather built once and placed twice (docs/wing.md).
+  "$plumage" -q wing -o "$out/wing.fscene" --pair
+  "$plumage" info "$out/wing.fscene" | head -1
+  "$plumage" render "$out/wing.fscene" --spp ${SPP:-16} --resolution 960x540 -o "$out/wing.png"
+  echo "demo: wrote $out/feather.fcurves, $out/preview.png, the side-by-side $out/side_by_side.png and the pair of wings $out/wing.png"
 elif "$plumage" --help | grep -q "render"; then
   "$plumage" render "$out/feather.fcurves" --shading hair --lights all --spp ${SPP:-16} -o "$out/hair.png"
   echo "demo: wrote $out/feather.fcurves, $out/preview.png and $out/hair.png"

@@ -29,6 +29,8 @@ fs::path scene_dir() {
   Feather f = test::make_test_feather(20.0f, 0.25f, 0.1f);  // a dense vane: dark where it lies
   std::erase_if(f.curves, [](const Curve& c) { return c.side == VaneSide::Left; });  // one vane: mirroring shows
   f.albedo.color = {0.1f, 0.08f, 0.06f};
+  for (SubstructureParams* p : {&f.left, &f.right})  // for the substructure panel of compare
+    *p = SubstructureParams{24, 0.02f, 0.004f, 40.0f, 10.0f, 0.2f, 0.3f};
   write_fcurves(dir / "feathers" / "vane.fcurves", f);
   std::ofstream(dir / "pair.fscene") << "fscene 1\n"
                                         "feather v fcurves \"feathers/vane.fcurves\"\n"
@@ -102,4 +104,33 @@ TEST(SceneCli, BadScenesFailAtTheirPlaceAndWriteNothing) {
     EXPECT_FALSE(fs::exists(out));
   }
   EXPECT_EQ(test::plumage_cli("-q render " + (dir / "pair.fscene").string() + " -o " + (dir / "x.png").string() + " --aov structure --shading substructure").rc, 2);
+}
+
+TEST(SceneCli, TheScenesCameraIsTheFlagsCameraAndFlagsWin) {
+  const fs::path dir = scene_dir();
+  std::ofstream(dir / "cam.fscene") << "fscene 1\nfeather v fcurves \"feathers/vane.fcurves\"\n"
+                                       "camera position 3 5 120 look_at 3 8 0 fov 12\nlights 2,9\nplace v\nend\n";
+  std::ofstream(dir / "nocam.fscene") << "fscene 1\nfeather v fcurves \"feathers/vane.fcurves\"\nplace v\nend\n";
+  const std::string common = " --spp 2 --resolution 32x24 -o ";
+  ASSERT_EQ(test::plumage_cli("-q render " + (dir / "cam.fscene").string() + common + (dir / "a.exr").string()).rc, 0);
+  ASSERT_EQ(test::plumage_cli("-q render " + (dir / "nocam.fscene").string() + common + (dir / "b.exr").string() +
+                              " --camera-pos 3,5,120 --look-at 3,8,0 --fov 12 --lights 2,9").rc, 0);
+  ASSERT_EQ(test::plumage_cli("-q render " + (dir / "cam.fscene").string() + common + (dir / "c.exr").string() + " --fov 40").rc, 0);
+  const Image a = read_image(dir / "a.exr"), b = read_image(dir / "b.exr"), c = read_image(dir / "c.exr");
+  EXPECT_EQ(a.pixels, b.pixels);  // the scene's records are the flags
+  EXPECT_NE(a.pixels, c.pixels);  // and --fov wins over the scene's
+}
+
+TEST(SceneCli, CompareShowsTheSceneInBothModesAndExportSaysItCannot) {
+  const fs::path dir = scene_dir();
+  const std::string scene = (dir / "pair.fscene").string();
+  const auto r = test::plumage_cli("-q compare " + scene + " -o " + (dir / "cmp.png").string() +
+                                   " --spp 2 --resolution 40x24 --lights all");
+  ASSERT_EQ(r.rc, 0) << r.output;
+  const Image im = read_image(dir / "cmp.png");
+  EXPECT_GE(im.width, 80);  // two panels of 40
+  EXPECT_EQ(test::plumage_cli("-q compare " + scene + " -o " + (dir / "seq.png").string() + " --light-sequence").rc, 2);
+  const auto e = test::plumage_cli("-q export " + scene + " -o " + (dir / "x.obj").string());
+  EXPECT_EQ(e.rc, 2);
+  EXPECT_NE(e.output.find("export writes one feather"), std::string::npos) << e.output;
 }

@@ -55,4 +55,15 @@ BuiltWorld::BuiltWorld(const LoadedScene& loaded, const SceneOptions& options, c
   world_ = std::make_unique<World>(std::move(feathers), std::move(placements), options.backdrop);
 }
 
+std::vector<Panel> render_scene_both_modes(const LoadedScene& loaded, SceneOptions options, const DomeRig& rig,
+                                           const ViewSpec& view) {
+  std::vector<Panel> panels;
+  for (ShadingMode mode : {ShadingMode::Hair, ShadingMode::Substructure}) {
+    options.mode = mode;
+    const BuiltWorld built(loaded, options, view);
+    panels.push_back({render_view(built.world(), rig, view), to_string(mode)});
+  }
+  return panels;
+}
+
 }  // namespace plumage

@@ -11,6 +11,7 @@
 #include "plumage/common/feather.h"
 #include "plumage/common/scene_format.h"
 #include "plumage/renderer/feather_render.h"
+#include "plumage/renderer/panel_layout.h"
 #include "plumage/renderer/scene.h"
 #include "plumage/renderer/world.h"
 
@@ -48,5 +49,10 @@ class BuiltWorld {
   std::unique_ptr<World> world_;
   std::size_t feather_bytes_ = 0;
 };
+
+// The scene in hair and then substructure shading under the same view: one labelled
+// panel each (`plumage compare scene.fscene`).
+std::vector<Panel> render_scene_both_modes(const LoadedScene& loaded, SceneOptions options, const DomeRig& rig,
+                                           const ViewSpec& view);
 
 }  // namespace plumage
