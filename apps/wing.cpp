@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "command.h"
@@ -10,20 +11,42 @@
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
+#include "plumage/common/image.h"
 #include "plumage/common/progress.h"
 #include "plumage/common/scene_format.h"
 #include "plumage/generator/builder.h"
+#include "plumage/generator/layout_to_params.h"
+#include "plumage/layout/layout.h"
 #include "plumage/generator/wing.h"
 
 namespace plumage::cli {
 namespace {
 
 struct WingArgs {
-  std::string output, preset = "rock-dove";
+  std::string output, preset = "rock-dove", layout;
   std::uint64_t seed = 1;
   double fold = 0;
   bool folded = false, pair = false, list = false;
 };
+
+// A key feather's colour from its analysed albedo texture: the mean of the texels
+// inside the feather (alpha-weighted), times the texture's scale. The photo's card
+// is not inverted here (photo-to-feather's calibration, docs/analysis.md, does that).
+std::optional<glm::vec3> texture_mean(const FeatherLayout& f, const std::filesystem::path& layout_dir) {
+  if (f.albedo.file.empty()) return std::nullopt;
+  const Image tex = read_image(layout_dir / f.albedo.file);
+  glm::dvec3 sum(0);
+  double weight = 0;
+  for (int y = 0; y < tex.height; ++y)
+    for (int x = 0; x < tex.width; ++x) {
+      const float* t = tex.at(x, y);
+      const double w = tex.channels >= 4 ? t[3] : 1.0;
+      sum += w * glm::dvec3(t[0], t[1], t[2]);
+      weight += w;
+    }
+  if (!(weight > 0)) return std::nullopt;
+  return glm::vec3(sum / weight * f.albedo.scale);
+}
 
 int run_wing(const WingArgs& a) {
   if (a.list) {
@@ -39,6 +62,21 @@ int run_wing(const WingArgs& a) {
   o.seed = a.seed;
   o.fold = a.folded ? 1.0 : a.fold;
   o.pair = a.pair;
+  if (!a.layout.empty()) {
+    const Layout layout = read_layout(a.layout);
+    for (const FeatherLayout& f : layout.feathers) {
+      try {
+        FeatherParams key = layout_to_params(f, a.layout).params;
+        const std::filesystem::path dir = std::filesystem::path(a.layout).parent_path();
+        if (const auto colour = texture_mean(f, dir.empty() ? "." : dir)) key.albedo = *colour;
+        o.keys.push_back(std::move(key));
+      } catch (const Error& e) {
+        std::cerr << "warning: " << a.layout << ": feather " << f.id << " is not a key feather: " << e.what() << "\n";
+      }
+    }
+    if (o.keys.size() < 2)
+      throw Error(a.layout + ": " + std::to_string(o.keys.size()) + " usable feathers; a wing needs at least 2 key feathers");
+  }
   const Wing wing = build_wing(o);
   // The feathers go to NAME_feathers/ beside the scene: all files or none.
   const std::string folder = out.stem().string() + "_feathers";
@@ -88,6 +126,7 @@ const Registration kWing{
           ->check(in_range(0, 1));
       sub.add_flag("--folded", a->folded, "The folded wing (--fold 1)");
       sub.add_flag("--pair", a->pair, "Add the left wing, the mirror image of the right sharing its feathers");
+      sub.add_option("--layout", a->layout, "Take the key feathers from a sheet's analysed feathers (plumage analyze's layout.json)");
       sub.add_flag("--list-presets", a->list, "List the wing presets");
       return [a] { return run_wing(*a); };
     }};

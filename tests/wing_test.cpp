@@ -109,6 +109,34 @@ TEST(Wing, FoldingNarrowsTheWingAndThePairSharesItsFeathers) {
   EXPECT_NO_THROW(parse_fscene(format_fscene(scene)));
 }
 
+TEST(Wing, AnalysedKeyFeathersSetTheRemigesAndTheWingsSize) {
+  // Keys as photo analysis would give them: a few long feathers and short ones.
+  std::vector<FeatherParams> keys;
+  for (double length : {60.0, 240.0, 180.0, 30.0, 200.0, 150.0}) {
+    FeatherParams k = load_preset("rock-dove-wing");
+    k.shaft.length = length;
+    k.shaft.calamus_length = 0.12 * length;
+    k.albedo = glm::vec3(float(length) / 1000.0f);  // tells the keys apart
+    keys.push_back(k);
+  }
+  WingOptions o;
+  o.keys = keys;
+  const Wing analysed = build_wing(o), preset = build_wing(WingOptions{});
+  // P10 is the longest key, P1 the 0.25 rank of the remex keys (>= 40 % of the
+  // longest: 240, 200, 180, 150; 60 and 30 are left to the coverts' colour).
+  const auto find = [&](const Wing& w, const std::string& name) -> const WingFeather& {
+    for (const WingFeather& f : w.feathers)
+      if (f.name == name) return f;
+    throw Error("no " + name);
+  };
+  EXPECT_NEAR(find(analysed, "P10").params.shaft.length, blend_params(keys[1], keys[4], 0.05).shaft.length, 1e-9);
+  EXPECT_NEAR(find(analysed, "S11").params.shaft.length, blend_params(keys[2], keys[5], 10.5 / 11).shaft.length, 1e-9);
+  EXPECT_FLOAT_EQ(find(analysed, "MC1").params.albedo.x, 0.03f);  // the shortest key's colour
+  // The bones scale with the longest feather: 240 / 150 of the preset's.
+  const glm::vec3 tip_a(find(analysed, "P10").to_world[3]), tip_p(find(preset, "P10").to_world[3]);
+  EXPECT_NEAR(glm::length(glm::vec2(tip_a)), 1.6f * glm::length(glm::vec2(tip_p)), 1e-3f);
+}
+
 TEST(Wing, CliWritesASceneOfItsFeathers) {
   const fs::path dir = fs::temp_directory_path() / ("plumage_wing_cli_" + std::to_string(::getpid()));
   fs::remove_all(dir);

@@ -166,10 +166,36 @@ const char* to_string(WingRow row) {
 
 std::vector<std::string> wing_presets() { return {"rock-dove"}; }
 
+namespace {
+// The preset's keys replaced by analysed feathers' (WingOptions::keys).
+void take_keys(WingModel& m, std::vector<FeatherParams> keys) {
+  std::sort(keys.begin(), keys.end(),
+            [](const FeatherParams& a, const FeatherParams& b) { return a.shaft.length > b.shaft.length; });
+  const double longest = keys.front().shaft.length;
+  std::size_t remiges = 0;
+  while (remiges < keys.size() && keys[remiges].shaft.length >= 0.4 * longest) ++remiges;
+  const auto rank = [&](double q) { return keys[std::size_t(std::lround(q * double(remiges - 1)))]; };
+  const double k = longest / m.p_outer.shaft.length;  // the analysed wing's size against the preset's
+  m.p_outer = rank(0.0);
+  m.p_inner = rank(0.25);
+  m.s_outer = rank(0.5);
+  m.s_inner = rank(1.0);
+  m.humerus *= k, m.ulna *= k, m.hand *= k, m.body_half_width *= k;
+  const glm::vec3 covert_colour = keys.back().albedo;
+  for (FeatherParams* c : {&m.gc_outer, &m.gc_inner, &m.mc_outer, &m.mc_inner}) {
+    *c = key("osprey-wing-covert", c->shaft.length * k, 0.6, 0.65, 1.0, covert_colour);
+  }
+  m.description = "Wing from " + std::to_string(keys.size()) + " analysed feathers (" + std::to_string(remiges) +
+                  " long enough for remex keys, " + std::to_string(int(std::lround(longest))) +
+                  " mm the longest) on the rock-dove wing's rows and bones scaled to them (docs/wing.md)";
+}
+}  // namespace
+
 Wing build_wing(const WingOptions& o) {
   if (o.preset != "rock-dove") throw Error("unknown wing preset '" + o.preset + "'; known: rock-dove");
   if (!(o.fold >= 0 && o.fold <= 1)) throw Error("fold must lie in [0, 1] (0 spread, 1 folded)");
-  const WingModel m = rock_dove();
+  WingModel m = rock_dove();
+  if (o.keys.size() >= 2) take_keys(m, o.keys);
   double a[3];
   for (int i = 0; i < 3; ++i) a[i] = lerp(m.spread_deg[i], m.folded_deg[i], o.fold);
   const glm::vec2 shoulder(0), elbow = shoulder + float(m.humerus) * dir(a[0]), wrist = elbow + float(m.ulna) * dir(a[1]),
@@ -196,11 +222,12 @@ Wing build_wing(const WingOptions& o) {
     return std::tuple{base, lerp(spread, folded, o.fold), t};
   };
   const float stack = 0.6f;  // mm between neighbours in the dorsal stack
+  const float reach = float(m.hand / 45.0);  // the coverts' offsets grow with the wing
   for (int i = 1; i <= m.primaries; ++i) {
     const auto [base, deg, t] = remex(WingRow::Primary, i, m.primaries);
     const float z = stack * float(m.primaries - i);
     w.feathers.push_back({WingRow::Primary, i, "P" + std::to_string(i), blend_params(m.p_outer, m.p_inner, t), placed(base, z, deg)});
-    const glm::vec2 cov = base + 5.0f * dir(deg + 180);  // up the feather, over its base
+    const glm::vec2 cov = base + 5.0f * reach * dir(deg + 180);  // up the feather, over its base
     w.feathers.push_back({WingRow::GreaterCovert, i, "PC" + std::to_string(i), blend_params(m.gc_outer, m.gc_inner, 0.5 * t),
                           placed(cov, z + 6.0f, deg)});
   }
@@ -208,14 +235,14 @@ Wing build_wing(const WingOptions& o) {
     const auto [base, deg, t] = remex(WingRow::Secondary, i, m.secondaries);
     const float z = stack * float(m.primaries + i);
     w.feathers.push_back({WingRow::Secondary, i, "S" + std::to_string(i), blend_params(m.s_outer, m.s_inner, t), placed(base, z, deg)});
-    const glm::vec2 gc = base + 5.0f * dir(deg + 180), mc = base + 11.0f * dir(deg + 180);
+    const glm::vec2 gc = base + 5.0f * reach * dir(deg + 180), mc = base + 11.0f * reach * dir(deg + 180);
     w.feathers.push_back({WingRow::GreaterCovert, i, "GC" + std::to_string(i), blend_params(m.gc_outer, m.gc_inner, 0.5 + 0.5 * t),
                           placed(gc, z + 6.0f, deg)});
     w.feathers.push_back({WingRow::MedianCovert, i, "MC" + std::to_string(i), blend_params(m.mc_outer, m.mc_inner, t),
                           placed(mc, z + 9.0f, deg + 5)});
   }
   for (WingFeather& f : w.feathers) {
-    f.params.name = "rock-dove-" + f.name;
+    f.params.name = (o.keys.size() >= 2 ? "analysed-" : "rock-dove-") + f.name;
     validate(f.params, "wing feather " + f.name);
   }
   return w;

@@ -33,6 +33,12 @@ struct WingOptions {
   std::uint64_t seed = 1;
   double fold = 0;    // 0 spread .. 1 folded: the elbow and wrist joints close
   bool pair = false;  // add the other wing, the mirror image sharing every feather
+  // Key feathers taken from analysed feathers (a sheet's layout.json through
+  // layout_to_params) instead of the preset's: the long ones (at least 40 % of the
+  // longest) are the remex keys by length rank, outermost primary the longest; the
+  // bones and the coverts scale with them, the coverts take the shortest one's
+  // colour. Fewer than two: the preset's keys.
+  std::vector<FeatherParams> keys;
 };
 
 // One feather of the wing: its row, number in the row (1 = outermost primary P1 is
