@@ -151,6 +151,32 @@ TEST_F(ImageFiles, PngCodesAreLinearToSrgbRoundedAndBackIsSrgbToLinear) {
   }
 }
 
+TEST_F(ImageFiles, PngAlphaCodesAreLinearRounded) {
+  // The alpha channel is written linear, exactly lround(clamp(v, 0, 1) * 255): a
+  // dense sweep, each half-way point k + 0.5 over 255 with its float neighbours, and
+  // the extremes.
+  std::vector<float> values;
+  for (int i = 0; i <= 400000; ++i) values.push_back(-0.1f + 1.2f * float(i) / 400000.0f);
+  for (int k = 0; k < 255; ++k) {
+    const float half = (float(k) + 0.5f) / 255.0f;
+    for (float v = std::nextafter(std::nextafter(half, 0.0f), 0.0f); values.push_back(v), v < half + 1e-6f;)
+      v = std::nextafter(v, 2.0f);
+  }
+  for (float v : {std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+                  std::numeric_limits<float>::denorm_min(), 0.0f, -0.0f, 1.0f, std::nextafter(1.0f, 0.0f)})
+    values.push_back(v);
+  const int w = 1024, h = int((values.size() + w - 1) / w);
+  Image img(w, h, 2, 0.5f);
+  for (std::size_t i = 0; i < values.size(); ++i) img.pixels[2 * i + 1] = values[i];
+  const fs::path f = dir_ / "alpha.png";
+  write_image(f, img);
+  const Image raw = read_image(f, false);
+  ASSERT_EQ(raw.channels, 2);
+  for (std::size_t i = 0; i < values.size(); ++i)
+    ASSERT_EQ(std::lround(raw.pixels[2 * i + 1] * 255.0f), std::lround(std::clamp(values[i], 0.0f, 1.0f) * 255.0f))
+        << "alpha " << values[i];
+}
+
 TEST_F(ImageFiles, PngKeepsRowOrderAndChannels) {
   Image img(4, 3, 3, 0.0f);
   img.set_rgb(0, 0, {1, 0, 0});  // top-left red

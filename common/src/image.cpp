@@ -109,19 +109,32 @@ bool all_finite(const Image& img) {
   return std::all_of(img.pixels.begin(), img.pixels.end(), [](float v) { return std::isfinite(v); });
 }
 
+// lround(clamp(v, 0, 1) * 255) without a libm call (0 for NaN): x - floor(x) is
+// exact for a float x in [0, 255], so the comparison with 0.5 rounds half away
+// from zero as lround does.
+inline unsigned char linear_byte(float v) {
+  if (!(v > 0.0f)) return 0;  // also NaN
+  const float x = std::min(v, 1.0f) * 255.0f;
+  const int k = int(x);
+  return static_cast<unsigned char>(x - float(k) >= 0.5f ? k + 1 : k);
+}
+
 std::vector<unsigned char> srgb_bytes(const Image& img) {
   static const SrgbCodes srgb_code;
   std::vector<unsigned char> bytes(img.pixels.size());
-  const int alpha = img.channels == 4 || img.channels == 2 ? img.channels - 1 : -1;
-  for (std::size_t i = 0; i < img.pixels.size(); ++i) {
-    const float v = img.pixels[i];
-    if (std::isnan(v)) {  // no colour: black, and transparent
-      bytes[i] = 0;
-      continue;
+  const int channels = img.channels;
+  const int alpha = channels == 4 || channels == 2 ? channels - 1 : -1;
+  const std::size_t pixels = img.pixels.size() / std::size_t(std::max(channels, 1));
+  const float* v = img.pixels.data();
+  unsigned char* out = bytes.data();
+  for (std::size_t p = 0; p < pixels; ++p)
+    for (int c = 0; c < channels; ++c, ++v, ++out) {
+      if (std::isnan(*v)) {  // no colour: black, and transparent
+        *out = 0;
+        continue;
+      }
+      *out = c != alpha ? srgb_code(*v) : linear_byte(*v);
     }
-    bytes[i] = int(i % img.channels) != alpha ? srgb_code(v)
-                                               : static_cast<unsigned char>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
-  }
   return bytes;
 }
 
@@ -297,18 +310,20 @@ Image read_image(const fs::path& path, bool linearize, double max_megapixels, Im
     // without a pow per sample).
     std::array<float, 256> in_value, out_value;
     in_value.fill(std::numeric_limits<float>::quiet_NaN());
-    const int alpha = header.alpha;
-    for (std::size_t i = 0; i < img.pixels.size(); ++i) {
-      if (int(i % img.channels) == alpha) continue;
-      float& v = img.pixels[i];
-      const long k = std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f);
-      if (in_value[std::size_t(k)] == v) {
-        v = out_value[std::size_t(k)];
-        continue;
+    const int alpha = header.alpha, channels = img.channels;
+    float* v = img.pixels.data();
+    const std::size_t pixels = img.pixels.size() / std::size_t(std::max(channels, 1));
+    for (std::size_t p = 0; p < pixels; ++p)
+      for (int c = 0; c < channels; ++c, ++v) {
+        if (c == alpha) continue;
+        const std::size_t k = linear_byte(*v);  // a slot per byte value; the float itself is the key
+        if (in_value[k] == *v) {
+          *v = out_value[k];
+          continue;
+        }
+        in_value[k] = *v;
+        *v = out_value[k] = srgb_to_linear(*v);
       }
-      in_value[std::size_t(k)] = v;
-      v = out_value[std::size_t(k)] = srgb_to_linear(v);
-    }
   }
   return img;
 }

@@ -468,16 +468,18 @@ void HairBCSDF::f_cos_estimate(const glm::vec3& wo, std::size_t n, const float* 
   estimate_kernel(n, x, y, z, out_r, out_g, out_b, sin_op, cos_op, inv_v, log_norm, shift, A, inv_s, np_scale, wo.y,
                   wo.z);
   if (!exit_) return;
-  // The medulla lobe, exactly (its terms are cheap beside the four above).
+  // The medulla lobe, with its azimuth's angle from atan2_approx (within 1e-5 rad):
+  // like the four above, an estimate for the choice of light only.
   const glm::vec3 As(at.A[4]);
-  const double woy = wo.y, woz = wo.z, wo_len = std::sqrt(woy * woy + woz * woz);
+  const float woy = wo.y, woz = wo.z, wo_len = std::sqrt(woy * woy + woz * woz);
   for (std::size_t k = 0; k < n; ++k) {
     if (!(std::isfinite(x[k]) && std::isfinite(y[k]) && std::isfinite(z[k]))) continue;
     const double sin_i = std::clamp(double(x[k]), -1.0, 1.0);
-    const double dot = double(z[k]) * woz + double(y[k]) * woy, cross = double(y[k]) * woz - double(z[k]) * woy;
-    const double len = wo_len * std::sqrt(double(y[k]) * y[k] + double(z[k]) * z[k]);
-    const double az = len > 0.0 ? medulla::lambertian_azimuth(dot / len, std::abs(cross) / len) : 0.0;
-    const float g = float(exit_->pdf(sin_i) * az);
+    const float dot = z[k] * woz + y[k] * woy, cross = std::fabs(y[k] * woz - z[k] * woy);
+    const float len = wo_len * std::sqrt(y[k] * y[k] + z[k] * z[k]);
+    // N(phi) = ((pi - |phi|) cos phi + sin |phi|) / 8 (medulla_terms.h), phi from its cosine and sine.
+    const float az = len > 0.0f ? std::max(0.0f, ((kPiF - atan2_approx(cross, dot)) * dot + cross) / len * 0.125f) : 0.0f;
+    const float g = float(exit_->pdf(sin_i)) * az;
     out_r[k] += As.x * g;
     out_g[k] += As.y * g;
     out_b[k] += As.z * g;
