@@ -20,6 +20,7 @@
 #include "plumage/common/stats.h"
 #include "plumage/renderer/explicit_geometry.h"
 #include "plumage/renderer/feather_render.h"
+#include "plumage/renderer/shading_level.h"
 #include "plumage/renderer/structure_aov.h"
 #include "plumage/pipeline/feather_scene.h"
 
@@ -41,7 +42,7 @@ struct Options {
 };
 
 // `plumage render scene.fscene`: every distinct feather built once, placed as the scene says.
-int run_render_scene(const Options& o, ViewSpec view, ShadingMode mode) {
+int run_render_scene(const Options& o, ViewSpec view, ShadingMode mode, SceneShading shading) {
   if (!o.aov.empty()) throw UsageError("--aov works on one feather; render a .fcurves file for it");
   if (o.view.cull) throw UsageError("--cull works on one feather; leave it out for a .fscene");
   LoadedScene loaded = load_scene(o.input);
@@ -53,7 +54,7 @@ int run_render_scene(const Options& o, ViewSpec view, ShadingMode mode) {
   }
   SceneOptions so = o.view.scene_options(view, rig);
   so.mode = mode;
-  const BuiltWorld built(loaded, so, view);
+  const BuiltWorld built(loaded, so, view, shading);
   if (view_lights(built.world().bounds(), rig, view).empty())
     std::cerr << "plumage: warning: no light is on (--lights none and no --env/--directional); the image is black\n";
   const Image image = render_view(built.world(), rig, view);
@@ -63,6 +64,10 @@ int run_render_scene(const Options& o, ViewSpec view, ShadingMode mode) {
   stats_set_value("Scene/Barbs over all placements", double(loaded.placed_barbs()));
   stats_set_value("Scene/Distinct feathers' control points (bytes)", double(built.feather_bytes()));
   stats_set_value("Scene/Placement records (bytes)", double(built.placement_bytes()));
+  if (shading == SceneShading::ByFootprint)
+    for (ShadingMode m : {ShadingMode::Substructure, ShadingMode::Farfield})
+      stats_set_value(std::string("Scene/Placements shaded ") + to_string(m),
+                      double(std::count(built.placement_modes().begin(), built.placement_modes().end(), m)));
   if (!global_options().quiet)
     std::cerr << "wrote " << o.output << " (" << view.width << "x" << view.height << ", " << view.spp << " spp, "
               << loaded.scene.placements.size() << " placements of " << loaded.feathers.size() << " feathers)\n";
@@ -99,8 +104,9 @@ int run_render(const Options& o) {
   const auto t0 = clock::now();
   if (const std::string bad = image_output_problem(o.output, {".exr", ".png", ".hdr", ".tif", ".jpg"}); !bad.empty())
     throw UsageError(bad);
-  const ShadingMode mode = parse_shading_mode(o.shading);
-  if (o.aov == "structure" && mode != ShadingMode::Substructure && mode != ShadingMode::Explicit)
+  const bool by_footprint = o.shading == kAutoShading;
+  const ShadingMode mode = by_footprint ? ShadingMode::Substructure : parse_shading_mode(o.shading);
+  if (o.aov == "structure" && (by_footprint || (mode != ShadingMode::Substructure && mode != ShadingMode::Explicit)))
     throw UsageError("--aov structure shows rami and barbules: give --shading substructure or explicit");
   ViewSpec view = o.view.view_spec(o.input, !global_options().quiet);
   if (!o.tile.empty()) {
@@ -110,7 +116,8 @@ int run_render(const Options& o) {
     parse_tile(o.tile, view.tile_index, view.tile_count);  // tile_part() checked the form
   }
   add_lights_and_material(o, view);  // its usage errors before any file is read
-  if (std::filesystem::path(o.input).extension() == ".fscene") return run_render_scene(o, view, mode);
+  if (std::filesystem::path(o.input).extension() == ".fscene")
+    return run_render_scene(o, view, mode, by_footprint ? SceneShading::ByFootprint : SceneShading::Uniform);
   const DomeRig rig = o.view.read_rig();
   const auto t_setup = clock::now();
   Feather feather = read_fcurves(o.input);
@@ -120,7 +127,19 @@ int run_render(const Options& o) {
   SceneOptions so = o.view.scene_options(view, rig);
   so.mode = mode;
   if (so.mode == ShadingMode::Explicit) check_explicit_fits(feather);
-  const Scene scene(feather, so);
+  std::optional<Scene> built(std::in_place, feather, so);
+  if (by_footprint) {
+    // The feather's level by the smallest pixel footprint over it (shading_level.h).
+    const Bounds3f& box = built->feather_bounds();
+    so.mode = shading_by_footprint(feather, 1.0f, box, Camera(view.camera, view.width, view.height, box));
+    stats_set_value(std::string("Scene/Placements shaded ") + to_string(so.mode), 1.0);
+    if (so.mode != ShadingMode::Substructure) {
+      const std::shared_ptr<const RibbonLayers> layers = built->ribbon_layer_map();
+      built.reset();
+      built.emplace(feather, so, layers);
+    }
+  }
+  const Scene& scene = *built;
   const auto t_build = clock::now();
 
   if (view_lights(scene.feather_bounds(), rig, view).empty())
@@ -160,7 +179,7 @@ const Registration kRender{
           "See docs/rendering.md.");
       sub.add_option("input", o->input, "Feather curve file (.fcurves) or scene of many feathers (.fscene)")->required();
       sub.add_option("-o,--output", o->output, "Output image: .exr (linear float) or .png (sRGB 8-bit)")->required();
-      add_shading_option(sub, o->shading, "Barb shading: hair (fibres, production practice), substructure (Baron et al. 2021; docs/substructure.md) explicit (rami and barbules as real curves: the slow reference) or farfield (ribbons shaded by a table measured on the explicit geometry; fitted once, cached in $PLUMAGE_FARFIELD_CACHE)");
+      add_shading_option(sub, o->shading, "Barb shading: hair (fibres, production practice), substructure (Baron et al. 2021; docs/substructure.md) explicit (rami and barbules as real curves: the slow reference), farfield (ribbons shaded by a table measured on the explicit geometry; fitted once, cached in $PLUMAGE_FARFIELD_CACHE) or auto (each feather in substructure mode where a pixel over it is smaller than its barbule period, in farfield mode where it is larger; --stats counts each)", true);
       sub.add_option("--tile", o->tile, "Render part I of N of the image (rows split in N bands; the other rows stay 0) into an .exr; `plumage merge` joins the N parts into the image one run gives, bit for bit (docs/rendering.md, \"Split renders\")")
           ->check(tile_part());
       sub.add_option("--aov", o->aov, "Write an AOV instead of the beauty image: 'structure' colours ramus, distal and proximal barbules and gaps (needs --shading substructure or explicit)")

@@ -80,9 +80,15 @@ inline CLI::Validator environment(bool files) {
       "", "ENV");
 }
 
-// --shading, one of the library's modes.
-inline CLI::Option* add_shading_option(CLI::App& app, std::string& shading, const std::string& help) {
-  return app.add_option("--shading", shading, help)->capture_default_str()->check(one_of(kShadingModes));
+// --shading, one of the library's modes (and, where `with_auto`, "auto": each
+// feather's level by its pixel footprint, shading_level.h).
+inline constexpr const char* kAutoShading = "auto";
+inline CLI::Option* add_shading_option(CLI::App& app, std::string& shading, const std::string& help,
+                                       bool with_auto = false) {
+  std::vector<std::string> names;
+  for (ShadingMode m : kShadingModes) names.push_back(to_string(m));
+  if (with_auto) names.push_back(kAutoShading);
+  return app.add_option("--shading", shading, help)->capture_default_str()->check(one_of(std::move(names)));
 }
 
 struct ViewOptions {

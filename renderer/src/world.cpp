@@ -48,8 +48,7 @@ struct WorldQuery {
 
   static void bounds(const RTCBoundsFunctionArguments* args) {
     const auto* w = static_cast<const World*>(args->geometryUserPtr);
-    const World::Placed& p = w->placed_[args->primID];
-    const Bounds3f out = carried(p.to_world, w->feathers_[p.feather].scene->feather_bounds());
+    const Bounds3f out = w->placement_bounds(args->primID);
     RTCBounds* o = args->bounds_o;
     o->lower_x = out.lo.x, o->lower_y = out.lo.y, o->lower_z = out.lo.z;
     o->upper_x = out.hi.x, o->upper_y = out.hi.y, o->upper_z = out.hi.z;
@@ -100,8 +99,6 @@ World::World(std::vector<WorldFeather> feathers, std::vector<WorldPlacement> pla
     if (!f.scene || !f.material) throw Error("feather " + std::to_string(i) + " of the world has no scene or material");
     if (f.scene->options().backdrop.enabled)
       throw Error("feather " + std::to_string(i) + "'s scene has a backdrop of its own; the world lays one card under all");
-    if (f.scene->options().mode != feathers_.front().scene->options().mode)
-      throw Error("feather " + std::to_string(i) + " is built in another shading mode than feather 0");
   }
   float max_back = 0;    // the largest spawn margin of any placement, world mm
   float max_radius = 0;  // the largest curve radius of any placement, world mm
@@ -268,6 +265,11 @@ Ray World::spawn(const WorldHit& from, const glm::vec3& d, float tmax) const {
   r.skip_until = back + (local.skip_until - local.tnear) * p.scale + 4 * spawn_eps_;
   r.skip_placement = from.placement;
   return r;
+}
+
+Bounds3f World::placement_bounds(std::uint32_t placement) const {
+  const Placed& p = placed_[placement];
+  return carried(p.to_world, feathers_[p.feather].scene->feather_bounds());
 }
 
 }  // namespace plumage

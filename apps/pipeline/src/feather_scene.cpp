@@ -4,6 +4,8 @@
 #include "plumage/common/error.h"
 #include "plumage/generator/builder.h"
 #include "plumage/generator/presets.h"
+#include "plumage/renderer/camera.h"
+#include "plumage/renderer/shading_level.h"
 
 namespace plumage {
 
@@ -35,16 +37,21 @@ LoadedScene load_scene(const std::filesystem::path& path) {
   return out;
 }
 
-BuiltWorld::BuiltWorld(const LoadedScene& loaded, const SceneOptions& options, const ViewSpec& view) {
+BuiltWorld::BuiltWorld(const LoadedScene& loaded, const SceneOptions& options, const ViewSpec& view,
+                       SceneShading shading) {
   SceneOptions per_feather = options;
   per_feather.backdrop.enabled = false;
+  if (shading == SceneShading::ByFootprint) per_feather.mode = ShadingMode::Substructure;
+  const std::size_t n = loaded.feathers.size();
+  // Each feather in the uniform mode (ByFootprint: substructure, which also gives
+  // the bounds the camera frames).
   std::vector<WorldFeather> feathers;
-  for (std::size_t i = 0; i < loaded.feathers.size(); ++i) {
+  for (std::size_t i = 0; i < n; ++i) {
     const Feather& f = loaded.feathers[i];
     scenes_.push_back(std::make_unique<Scene>(f, per_feather));
     ViewSpec v = view;
     v.base_dir = loaded.folders[i];
-    materials_.push_back(std::make_unique<FibreMaterial>(view_material(f, v, options.mode)));
+    materials_.push_back(std::make_unique<FibreMaterial>(view_material(f, v, per_feather.mode)));
     feathers.push_back({scenes_.back().get(), materials_.back().get()});
     for (const Curve& c : f.curves) feather_bytes_ += c.points.size() * sizeof(ControlPoint);
   }
@@ -52,7 +59,50 @@ BuiltWorld::BuiltWorld(const LoadedScene& loaded, const SceneOptions& options, c
   placements.reserve(loaded.scene.placements.size());
   for (const ScenePlacement& p : loaded.scene.placements)
     placements.push_back({std::uint32_t(p.feather), p.to_world});
-  world_ = std::make_unique<World>(std::move(feathers), std::move(placements), options.backdrop);
+  world_ = std::make_unique<World>(feathers, placements, options.backdrop);
+  placement_modes_.assign(placements.size(), per_feather.mode);
+  if (shading == SceneShading::Uniform) return;
+
+  // The camera render_view frames the world with; each placement's level from it.
+  const Camera camera(view.camera, view.width, view.height, world_->bounds());
+  std::vector<bool> near(n, false), far(n, false);
+  for (std::uint32_t i = 0; i < placements.size(); ++i) {
+    const std::uint32_t f = placements[i].feather;
+    placement_modes_[i] =
+        shading_by_footprint(loaded.feathers[f], world_->placement_scale(i), world_->placement_bounds(i), camera);
+    (placement_modes_[i] == ShadingMode::Farfield ? far : near)[f] = true;
+  }
+  // The world over the scenes the placements use: each feather's substructure
+  // scene where a near placement shows it, its farfield scene (built now) where a
+  // far one does.
+  world_.reset();
+  SceneOptions far_options = per_feather;
+  far_options.mode = ShadingMode::Farfield;
+  std::vector<WorldFeather> used;
+  std::vector<std::uint32_t> near_index(n, 0), far_index(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (near[i]) {
+      near_index[i] = std::uint32_t(used.size());
+      used.push_back(feathers[i]);
+    }
+    if (far[i]) {
+      const Feather& f = loaded.feathers[i];
+      scenes_.push_back(std::make_unique<Scene>(f, far_options, scenes_[i]->ribbon_layer_map()));
+      ViewSpec v = view;
+      v.base_dir = loaded.folders[i];
+      materials_.push_back(std::make_unique<FibreMaterial>(view_material(f, v, ShadingMode::Farfield)));
+      far_index[i] = std::uint32_t(used.size());
+      used.push_back({scenes_.back().get(), materials_.back().get()});
+    }
+  }
+  for (std::uint32_t i = 0; i < placements.size(); ++i) {
+    const std::uint32_t f = placements[i].feather;
+    placements[i].feather = placement_modes_[i] == ShadingMode::Farfield ? far_index[f] : near_index[f];
+  }
+  world_ = std::make_unique<World>(std::move(used), std::move(placements), options.backdrop);
+  // Substructure scenes no placement shows are not kept.
+  for (std::size_t i = 0; i < n; ++i)
+    if (!near[i]) scenes_[i].reset();
 }
 
 std::vector<Panel> render_scene_both_modes(const LoadedScene& loaded, SceneOptions options, const DomeRig& rig,

@@ -36,6 +36,12 @@ class Camera {
   int height() const { return height_; }
   const glm::vec3& position() const { return eye_; }
   const glm::vec3& forward() const { return fwd_; }
+  // The smallest width a pixel covers anywhere in `box` (mm per pixel): for a
+  // perspective camera the pixel's angle times the depth of the box's nearest point
+  // in front of the camera (a box that reaches the eye's plane gives 0), for an
+  // orthographic one the same everywhere. `--shading auto` compares it with a
+  // feather's barbule period (shading_level.h).
+  float pixel_footprint(const Bounds3f& box) const;
 
  private:
   Projection proj_;

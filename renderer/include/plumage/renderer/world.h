@@ -62,8 +62,10 @@ class World {
   // One feather, no instancing: queries go to `scene`, whose own backdrop is the card.
   World(const Scene& scene, const FibreMaterial& material);
   // Many. Throws plumage::Error for no placement, a feather index out of range, a
-  // transform that is not a similarity, a feather Scene built with a backdrop or in
-  // another shading mode than the first. `backdrop` lies under all placements
+  // transform that is not a similarity, a feather Scene built with a backdrop.
+  // Feathers may be built in different shading modes (`--shading auto` shades a
+  // feather's near placements in substructure mode and its far ones in farfield
+  // mode: two Scenes of one feather). `backdrop` lies under all placements
   // (backdrop.h's rules, on the world bounds). The scenes and materials must outlive
   // the world.
   World(std::vector<WorldFeather> feathers, std::vector<WorldPlacement> placements, const BackdropSpec& backdrop);
@@ -90,7 +92,9 @@ class World {
     const Placed& p = placed_[placement];
     return p.turns ? &p.rotation : nullptr;
   }
-  ShadingMode mode() const { return feathers_.front().scene->options().mode; }
+  // A placement's world box (its feather's bounds carried by its transform) and scale.
+  Bounds3f placement_bounds(std::uint32_t placement) const;
+  float placement_scale(std::uint32_t placement) const { return placed_[placement].scale; }
   // The world bounds of every placed feather, radii included (the card left out).
   const Bounds3f& bounds() const { return bounds_; }
   const BackdropSpec& backdrop() const { return backdrop_; }

@@ -30,14 +30,25 @@ struct LoadedScene {
 // scene's FILE:LINE of the feather that cannot be read or built.
 LoadedScene load_scene(const std::filesystem::path& path);
 
-// One Scene and one material per distinct feather, and the world placing them.
+// How the placements of a scene are shaded: all in SceneOptions::mode, or each by
+// its pixel footprint (`--shading auto`, shading_level.h): substructure mode where a
+// pixel over it is smaller than its feather's barbule period, farfield elsewhere.
+enum class SceneShading { Uniform, ByFootprint };
+
+// One Scene and one material per distinct feather and shading mode used, and the
+// world placing them.
 class BuiltWorld {
  public:
   // `options.backdrop` becomes the world's card (the feathers' scenes get none);
   // `view` gives the materials as view_material does for one feather (its base_dir
-  // replaced by each feather's folder).
-  BuiltWorld(const LoadedScene& loaded, const SceneOptions& options, const ViewSpec& view);
+  // replaced by each feather's folder) and, for ByFootprint, the camera whose
+  // footprint decides. A feather whose placements fall on both sides of the switch
+  // is built twice (substructure and farfield), sharing its ribbon-layer map.
+  BuiltWorld(const LoadedScene& loaded, const SceneOptions& options, const ViewSpec& view,
+             SceneShading shading = SceneShading::Uniform);
   const World& world() const { return *world_; }
+  // The mode each placement is shaded in, in the scene's order.
+  const std::vector<ShadingMode>& placement_modes() const { return placement_modes_; }
   // Bytes of the distinct feathers' control points (each feather once, whatever
   // its placements) and of the world's placement records.
   std::size_t feather_bytes() const { return feather_bytes_; }
@@ -47,6 +58,7 @@ class BuiltWorld {
   std::vector<std::unique_ptr<Scene>> scenes_;
   std::vector<std::unique_ptr<FibreMaterial>> materials_;
   std::unique_ptr<World> world_;
+  std::vector<ShadingMode> placement_modes_;
   std::size_t feather_bytes_ = 0;
 };
 
