@@ -13,6 +13,7 @@
 #include "plumage/common/curve_format.h"
 #include "plumage/common/exporters.h"
 #include "plumage/renderer/export_scene.h"
+#include "plumage/pipeline/feather_scene.h"
 
 namespace plumage::cli {
 namespace {
@@ -52,8 +53,45 @@ ExportScene scene_for(const ExportArgs& a, const Feather& feather, const std::fi
   return scene;
 }
 
+// A .fscene: each distinct feather once and its placements, instanced where the
+// target can (exporters.h, ExportInstances), with the scene's camera and lights as
+// `plumage render` takes them.
+int export_fscene(const ExportArgs& a, const std::filesystem::path& out, ExportFormat format) {
+  if (format == ExportFormat::Fcurves)
+    throw UsageError(a.input + ": a scene's feathers are .fcurves files already (docs/scene-format.md); give "
+                     "--format pbrt, pbrt-v3, mitsuba, obj or blender");
+  LoadedScene loaded = load_scene(a.input);
+  for (Feather& f : loaded.feathers) a.substructure.apply(f);
+  ViewSpec view = a.view.view_spec(a.input, false);
+  a.view.apply_scene(loaded.scene, view);
+  a.material.apply(view);
+  const DomeRig rig = a.view.read_rig_for(view, a.input);
+  SceneOptions so = a.view.scene_options(view, rig);
+  so.mode = ShadingMode::Hair;  // every target's fibres are hair fibres
+  const BuiltWorld built(loaded, so, view);
+  std::vector<ExportMaterial> materials;
+  ExportScene scene = export_scene(built.world(), rig, view, parse_shading_mode(a.shading), materials);
+  if (!a.env.empty()) scene.environment = *parse_colour(a.env);  // environment(false) made sure it is one
+  scene.image_filename = out.stem().string() + ".exr";
+  ExportInstances instances;
+  for (std::size_t i = 0; i < loaded.feathers.size(); ++i)
+    instances.feathers.push_back({loaded.scene.feathers[i].name, &loaded.feathers[i], materials[i]});
+  for (const ScenePlacement& p : loaded.scene.placements) instances.placements.push_back({p.feather, p.to_world});
+  export_instances(out, instances, format, scene);
+  if (!global_options().quiet) {
+    if (format == ExportFormat::Mitsuba)
+      std::cout << "wrote " << loaded.feathers.size() << " curve files beside " << mitsuba_scene_path(out).string()
+                << " (Mitsuba 3 scene)";
+    else
+      std::cout << "wrote " << out.string() << " (" << to_string(format) << ")";
+    std::cout << ": " << loaded.feathers.size() << " distinct feathers, " << loaded.scene.placements.size()
+              << " placements, " << loaded.placed_barbs() << " barbs over all placements\n";
+  }
+  return 0;
+}
+
 const Registration kExport{
-    "export", "Write a .fcurves feather as a pbrt-v4, pbrt-v3, Mitsuba 3 or Blender scene, or Wavefront OBJ curves",
+    "export", "Write a .fcurves feather or a .fscene scene as a pbrt-v4, pbrt-v3, Mitsuba 3 or Blender scene, or Wavefront OBJ curves",
     [](CLI::App& sub) -> std::function<int()> {
       auto args = std::make_shared<ExportArgs>();
       sub.footer(
@@ -76,9 +114,14 @@ const Registration kExport{
           "Without --format the output's extension decides: .fcurves, .pbrt (pbrt-v4),\n"
           ".txt (mitsuba), .obj, .py (blender). The output is written atomically: on any error an\n"
           "existing file is left as it was. See docs/exporters.md.\n"
+          "A .fscene (a scene of many feathers, docs/scene-format.md) is written with each distinct\n"
+          "feather once and its own material, and every placement: pbrt's ObjectBegin/ObjectInstance,\n"
+          "Mitsuba's shapegroup/instance (a curves file per feather, OUT.NAME.txt, and OUT.xml),\n"
+          "Blender objects sharing a feather's Curves datablock, OBJ with each placement's curves\n"
+          "carried into the scene (OBJ has no instancing); not fcurves (its feathers are curve files).\n"
           "Example: plumage export feather.fcurves --format pbrt -o feather.pbrt\n"
           "Exit status: 0 done, 1 the input could not be read or exported, 2 usage error.\n");
-      sub.add_option("FILE", args->input, "The .fcurves file to read")->required();
+      sub.add_option("FILE", args->input, "The .fcurves file to read, or a .fscene scene of many feathers")->required();
       sub.add_option("-o,--output", args->output, "The file to write")->required();
       sub.add_option("-f,--format", args->format, "fcurves, pbrt, pbrt-v3, mitsuba, obj or blender")
           ->check(CLI::IsMember({"fcurves", "pbrt", "pbrt-v3", "mitsuba", "obj", "blender"}));
@@ -116,9 +159,7 @@ const Registration kExport{
         if (!scene_format && !args->scene_options_given.empty())
           throw UsageError(args->scene_options_given.front() + " sets the scene, and " + to_string(format) +
                            " holds only the curves: leave it out or export a scene format");
-        if (std::filesystem::path(args->input).extension() == ".fscene")
-          throw UsageError(args->input + ": export writes one feather; export each .fcurves a scene names "
-                           "(docs/scene-format.md), a scene of many feathers is not exported yet");
+        if (std::filesystem::path(args->input).extension() == ".fscene") return export_fscene(*args, out, format);
         Feather feather = read_fcurves(args->input);
         args->substructure.apply(feather);
         const ExportScene scene = scene_format ? scene_for(*args, feather, out) : ExportScene{};

@@ -859,3 +859,79 @@ TEST(Exporters, InvalidFeatherWritesNothing) {
   EXPECT_EQ(files, 6u);  // out.fcurves, out.pbrt (both pbrt flavours), out.txt + out.xml, out.obj, out.py; no temporaries
   fs::remove_all(dir);
 }
+
+// A scene of placed feathers: each feather's material reaches its own object, a bad
+// scene is refused naming what is wrong and writes nothing, and fcurves is refused.
+TEST(Exporters, InstancesCarryEachFeathersMaterialAndRefuseBadScenes) {
+  const Feather a = samples::sample_feather(3, 4), b = samples::sample_feather(5, 4);
+  ExportInstances in;
+  ExportMaterial dark, pale;
+  dark.sigma_a = glm::vec3(2.5f, 3.0f, 3.5f);
+  pale.sigma_a = glm::vec3(0.125f, 0.25f, 0.5f);
+  in.feathers = {{"dark", &a, dark}, {"pale.1", &b, pale}};
+  glm::mat4 m(1.0f);
+  m[3] = glm::vec4(10, -20, 30, 1);
+  in.placements = {{0, glm::mat4(1.0f)}, {1, m}, {0, m}};
+  const ExportScene s = busy_scene();
+  for (const std::string& text : {format_pbrt_v4(in, s), format_pbrt_v3(in, s)}) {
+    const std::size_t d = text.find("ObjectBegin \"dark\""), p = text.find("ObjectBegin \"pale.1\"");
+    ASSERT_NE(d, std::string::npos);
+    ASSERT_NE(p, std::string::npos);
+    // Each object's material is the one written after its ObjectBegin.
+    EXPECT_NE(text.find("\"rgb sigma_a\" [ 2.5 3 3.5 ]", d), std::string::npos);
+    EXPECT_LT(text.find("\"rgb sigma_a\" [ 2.5 3 3.5 ]", d), p);
+    EXPECT_NE(text.find("\"rgb sigma_a\" [ 0.125 0.25 0.5 ]", p), std::string::npos);
+    EXPECT_NE(text.find("Transform [ 1 0 0 0 0 1 0 0 0 0 1 0 10 -20 30 1 ]"), std::string::npos);
+  }
+  const std::string xml = format_mitsuba_scene(in, s, {"a.txt", "b.txt"});
+  EXPECT_NE(xml.find("<matrix value=\"1 0 0 10 0 1 0 -20 0 0 1 30 0 0 0 1\"/>"), std::string::npos);
+  EXPECT_NE(xml.find("value=\"0.125, 0.25, 0.5\""), std::string::npos) << xml;
+  EXPECT_THROW(format_mitsuba_scene(in, s, {"a.txt"}), Error);
+  // OBJ: 3 placements of 3-barb and 5-barb feathers (and their shafts).
+  const std::string obj = format_obj(in);
+  std::size_t objects = 0;
+  for (std::size_t at = obj.find("\no "); at != std::string::npos; at = obj.find("\no ", at + 1)) ++objects;
+  EXPECT_EQ(objects, 2 * a.curves.size() + b.curves.size());
+  EXPECT_NE(obj.find("o p2_dark_shaft"), std::string::npos);
+
+  const auto refused = [&](ExportInstances bad, const std::string& says) {
+    try {
+      format_pbrt_v4(bad, s);
+      ADD_FAILURE() << "accepted: " << says;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+  };
+  ExportInstances bad = in;
+  bad.feathers[1].name = "has space";
+  refused(bad, "is not 1-64 letters");
+  bad = in;
+  bad.feathers[1].name = "dark";
+  refused(bad, "given twice");
+  bad = in;
+  bad.placements[2].feather = 2;
+  refused(bad, "names feather 2 of 2");
+  bad = in;
+  bad.placements[1].to_world[3][1] = std::numeric_limits<float>::quiet_NaN();
+  refused(bad, "non-finite transform");
+  bad = in;
+  bad.placements.clear();
+  refused(bad, "needs a feather and a placement");
+
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("plumage_instances_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  bad = in;
+  bad.feathers[0].name = "";
+  for (ExportFormat e : {ExportFormat::Fcurves, ExportFormat::Pbrt, ExportFormat::PbrtV3, ExportFormat::Mitsuba,
+                         ExportFormat::Obj, ExportFormat::Blender})
+    EXPECT_THROW(export_instances(dir / "out.x", bad, e, s), Error) << to_string(e);
+  EXPECT_THROW(export_instances(dir / "out.fcurves", in, ExportFormat::Fcurves, s), Error);
+  EXPECT_TRUE(fs::is_empty(dir));
+  export_instances(dir / "m.txt", in, ExportFormat::Mitsuba, s);
+  EXPECT_EQ(read_file(dir / "m.dark.txt"), format_mitsuba_curves(a));
+  EXPECT_EQ(read_file(dir / "m.pale.1.txt"), format_mitsuba_curves(b));
+  EXPECT_EQ(read_file(dir / "m.xml"), format_mitsuba_scene(in, s, {"m.dark.txt", "m.pale.1.txt"}));
+  EXPECT_FALSE(fs::exists(dir / "m.txt"));
+  fs::remove_all(dir);
+}

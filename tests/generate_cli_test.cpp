@@ -20,6 +20,7 @@
 #include "plumage/generator/presets.h"
 
 #include "cli_run.h"
+#include "drawn_layout.h"
 
 using namespace plumage;
 namespace fs = std::filesystem;
@@ -75,30 +76,7 @@ TEST_F(GenerateCli, ParamsFileAndPrintParamsAgree) {
 // With --layout, --print-params prints what layout -> params made of the
 // feather (smoothed angles, repairs), and the same file builds the same feather.
 TEST_F(GenerateCli, PrintParamsFromALayout) {
-  Layout layout;
-  layout.source_image = "drawn.png";
-  layout.image_width = 800, layout.image_height = 800, layout.background = "light";
-  layout.scale.mm_per_px = 0.1;
-  FeatherLayout f;
-  f.id = 1;
-  f.bbox_px = {300, 100, 200, 600};
-  f.outline_px = {{300, 100}, {500, 100}, {500, 700}, {300, 700}};
-  f.albedo = {"layout.feather1.albedo.png", 20, 60, {-10, 70}, 1.0, 1.0, {}};  // not read with --print-params alone
-  f.shaft_mm = BSpline2({{0, -20}, {0, 0}, {0, 20}, {0, 40}, {0, 60}, {0, 80}});
-  f.length_mm = 60;
-  f.shaft_width_mm = 0.6;
-  f.feather_from_image = glm::dmat3x2(glm::dvec2(0.1, 0), glm::dvec2(0, -0.1), glm::dvec2(0));
-  f.image_from_feather = glm::dmat3x2(glm::dvec2(10, 0), glm::dvec2(0, -10), glm::dvec2(0));
-  for (int i = 0; i < 12; ++i) {
-    const double t = (i + 0.5) / 12;
-    f.stations_t.push_back(t);
-    for (VaneProfile* v : {&f.left, &f.right}) {
-      v->width_mm.push_back(8 * std::sin(3.14159 * t)), v->width_confidence.push_back(1);
-      v->barb_angle_deg.push_back(i == 5 ? 120 : 50 - 20 * t), v->barb_angle_confidence.push_back(0.9);
-      v->barb_spacing_mm.push_back(0.4), v->barb_spacing_confidence.push_back(0.8);
-    }
-  }
-  layout.feathers.push_back(f);
+  const Layout layout = test::drawn_layout(1, 5);
   write_layout(path("layout.json"), layout);
   CliResult r = plumage_cli("generate --layout " + path("layout.json") + " --print-params > " + path("p.json"));
   ASSERT_EQ(r.rc, 0) << read_file(path("p.json"));

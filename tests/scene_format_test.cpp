@@ -22,6 +22,7 @@ const char* const kScene =
     "units mm\n"
     "feather dove preset rock-dove-wing seed 3   # a comment\n"
     "feather mine fcurves \"feathers/my \\\"best\\\".fcurves\"\n"
+    "feather sheet layout \"../sheet/layout.json\" feather 12 seed 5\n"
     "camera position 0 0 400 look_at 0 0 0 fov 35\n"
     "lights 2-25\n"
     "place dove\n"
@@ -45,15 +46,19 @@ std::string error_of(const std::string& text) {
 
 TEST(SceneFormat, ReadsFeathersPlacementsCameraAndLights) {
   const FeatherScene s = parse_fscene(kScene, "s.fscene");
-  ASSERT_EQ(s.feathers.size(), 2u);
+  ASSERT_EQ(s.feathers.size(), 3u);
   EXPECT_EQ(s.feathers[0].name, "dove");
   EXPECT_EQ(s.feathers[0].source, SceneFeatherSource::Preset);
   EXPECT_EQ(s.feathers[0].preset, "rock-dove-wing");
   EXPECT_EQ(s.feathers[0].seed, 3u);
   EXPECT_EQ(s.feathers[1].path, "feathers/my \"best\".fcurves");
+  EXPECT_EQ(s.feathers[2].source, SceneFeatherSource::Layout);
+  EXPECT_EQ(s.feathers[2].path, "../sheet/layout.json");
+  EXPECT_EQ(s.feathers[2].layout_feather, 12u);
+  EXPECT_EQ(s.feathers[2].seed, 5u);
   ASSERT_EQ(s.placements.size(), 3u);
   EXPECT_EQ(s.placements[2].feather, 1u);
-  EXPECT_EQ(s.placements[1].line, 8);
+  EXPECT_EQ(s.placements[1].line, 9);
   // rotate first, then translate: (1,0,0) -> (0,1,0) -> (1,3,3).
   const glm::vec3 q = apply(s.placements[1].to_world, {1, 0, 0});
   EXPECT_NEAR(q.x, 1, 1e-5);
@@ -93,6 +98,12 @@ TEST(SceneFormat, EveryRuleFailsAtItsPlace) {
       {head + "feather b$ preset x seed 1\nend\n", "s.fscene:3:9"},
       {head + "feather b blender \"x\"\nend\n", "s.fscene:3:11: feather: unknown source 'blender'"},
       {head + "feather b fcurves \"\"\nend\n", "the file name is empty"},
+      {head + "feather b layout \"l.json\" feather 1\nend\n", "s.fscene:3:"},
+      {head + "feather b layout \"l.json\" id 1 seed 2\nend\n", "s.fscene:3:27: feather layout: expected 'feather ID'"},
+      {head + "feather b layout \"l.json\" feather -1 seed 2\nend\n", "s.fscene:3:35"},
+      {head + "feather b layout \"l.json\" feather 4294967296 seed 2\nend\n", "larger than any layout holds"},
+      {head + "feather b layout \"l.json\" feather 2 sed 2\nend\n", "s.fscene:3:37: feather layout: expected 'seed N'"},
+      {head + "feather b layout \"\" feather 2 seed 2\nend\n", "feather layout: the file name is empty"},
       {head + "place a scale 0\nend\n", "s.fscene:3:15: place scale: must be above 0"},
       {head + "place a scale nan\nend\n", "must be finite"},
       {head + "place a mirror w\nend\n", "s.fscene:3:16: place mirror: expected x, y or z"},

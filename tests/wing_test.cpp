@@ -70,7 +70,9 @@ TEST(Wing, RockDoveWingHasItsRowsAndBarbs) {
   EXPECT_EQ(coverts, 32);
   EXPECT_GE(w.feathers.size(), 40u);
   EXPECT_GE(barbs, 15000u);
-  EXPECT_THROW(build_wing(WingOptions{"ostrich"}), Error);
+  WingOptions ostrich;
+  ostrich.preset = "ostrich";
+  EXPECT_THROW(build_wing(ostrich), Error);
   WingOptions bad;
   bad.fold = 1.5;
   EXPECT_THROW(build_wing(bad), Error);

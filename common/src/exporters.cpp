@@ -6,6 +6,7 @@
 #include "plumage/common/exporters.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <initializer_list>
 #include <limits>
@@ -150,14 +151,13 @@ void append_scene_comment(std::string& out, const ExportScene& s, const char* co
   }
 }
 
-std::string format_pbrt(const Feather& f, const ExportScene& s, PbrtVersion v) {
-  validate_feather(f);
+// The scene around the feathers: comments, camera, sampler, film, WorldBegin,
+// lights and card. `what` is the provenance comment (one feather's, or the scene's).
+void append_pbrt_head(std::string& out, const std::string& what, const ExportScene& s, PbrtVersion v) {
   const bool v4 = v == PbrtVersion::V4;
-  std::string out;
-  out.reserve(4096 + f.num_control_points() * 48);
   out += v4 ? "# pbrt-v4 scene" : "# pbrt-v3 scene";
   out += " written by `plumage export`. Curves are uniform cubic B-splines in mm.\n";
-  append_provenance_comment(out, f, "#");
+  out += what;
   append_scene_comment(out, s, "#");
   out += "# Mirror x so the image shows the dorsal side as seen from +Z (pbrt's LookAt is left-handed).\n";
   out += "Scale -1 1 1\nLookAt ";
@@ -219,22 +219,108 @@ std::string format_pbrt(const Feather& f, const ExportScene& s, PbrtVersion v) {
     append_pbrt_floats(out, v4 ? "point3 P" : "point P", corners);
     out += "\nAttributeEnd\n";
   }
-  out += "\nAttributeBegin\n";
-  // Chiang et al. 2016 hair BSDF with plumage's absorption (per unit radius in both).
+}
+
+// Chiang et al. 2016 hair BSDF with plumage's absorption (per unit radius in both).
+void append_pbrt_material(std::string& out, const ExportMaterial& m) {
   out += "# pbrt's alpha has the opposite sign to plumage's (plumage alpha = ";
-  append_float(out, s.material.alpha_deg);
+  append_float(out, m.alpha_deg);
   out += " is pbrt alpha = ";
-  append_float(out, -s.material.alpha_deg);
+  append_float(out, -m.alpha_deg);
   out += ").\nMaterial \"hair\"";
-  append_pbrt_rgb(out, "rgb sigma_a", s.material.sigma_a);
-  append_pbrt_floats(out, "float beta_m", {s.material.beta_m});
-  append_pbrt_floats(out, "float beta_n", {s.material.beta_n});
-  append_pbrt_floats(out, "float alpha", {-s.material.alpha_deg});
-  append_pbrt_floats(out, "float eta", {s.material.eta});
+  append_pbrt_rgb(out, "rgb sigma_a", m.sigma_a);
+  append_pbrt_floats(out, "float beta_m", {m.beta_m});
+  append_pbrt_floats(out, "float beta_n", {m.beta_n});
+  append_pbrt_floats(out, "float alpha", {-m.alpha_deg});
+  append_pbrt_floats(out, "float eta", {m.eta});
   out += '\n';
+}
+
+std::string format_pbrt(const Feather& f, const ExportScene& s, PbrtVersion v) {
+  validate_feather(f);
+  std::string out;
+  out.reserve(4096 + f.num_control_points() * 48);
+  std::string what;
+  append_provenance_comment(what, f, "#");
+  append_pbrt_head(out, what, s, v);
+  out += "\nAttributeBegin\n";
+  append_pbrt_material(out, s.material);
   for (const Curve& c : f.curves) append_pbrt_curve(out, f, c, v);
   out += "AttributeEnd\n";
-  if (!v4) out += "WorldEnd\n";
+  if (v == PbrtVersion::V3) out += "WorldEnd\n";
+  return out;
+}
+
+bool valid_instance_name(const std::string& name) {
+  if (name.empty() || name.size() > 64) return false;
+  for (char c : name)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.')) return false;
+  return true;
+}
+
+void validate_instances(const ExportInstances& in) {
+  if (in.feathers.empty() || in.placements.empty()) throw Error("a scene to export needs a feather and a placement");
+  for (std::size_t i = 0; i < in.feathers.size(); ++i) {
+    const ExportFeather& f = in.feathers[i];
+    if (!valid_instance_name(f.name))
+      throw Error("feather " + std::to_string(i) + ": name '" + one_line(f.name) +
+                  "' is not 1-64 letters, digits, '_', '-' or '.'");
+    for (std::size_t j = 0; j < i; ++j)
+      if (in.feathers[j].name == f.name) throw Error("feather name '" + f.name + "' is given twice");
+    if (!f.feather) throw Error("feather '" + f.name + "' has no curves");
+    validate_feather(*f.feather);
+  }
+  for (std::size_t i = 0; i < in.placements.size(); ++i) {
+    const ExportPlacement& p = in.placements[i];
+    if (p.feather >= in.feathers.size())
+      throw Error("placement " + std::to_string(i) + " names feather " + std::to_string(p.feather) + " of " +
+                  std::to_string(in.feathers.size()));
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r)
+        if (!std::isfinite(p.to_world[c][r]))
+          throw Error("placement " + std::to_string(i) + " has a non-finite transform");
+  }
+}
+
+// The comment lines that say what a scene of placed feathers holds.
+std::string instances_comment(const ExportInstances& in, const char* comment) {
+  std::size_t barbs = 0;
+  for (const ExportPlacement& p : in.placements) barbs += in.feathers[p.feather].feather->count(CurveKind::Barb);
+  std::string out = comment;
+  out += " Plumage scene: ";
+  append_int(out, in.feathers.size());
+  out += " distinct feathers, ";
+  append_int(out, in.placements.size());
+  out += " placements, ";
+  append_int(out, barbs);
+  out += " barbs over all placements; units mm\n";
+  return out;
+}
+
+std::string format_pbrt(const ExportInstances& in, const ExportScene& s, PbrtVersion v) {
+  validate_instances(in);
+  std::string out;
+  append_pbrt_head(out, instances_comment(in, "#"), s, v);
+  out += "# Each distinct feather once, as an object with its own material; each placement an instance.\n";
+  for (const ExportFeather& ef : in.feathers) {
+    out += "\n";
+    append_provenance_comment(out, *ef.feather, "#");
+    out += "ObjectBegin \"" + ef.name + "\"\n";
+    append_pbrt_material(out, ef.material);
+    for (const Curve& c : ef.feather->curves) append_pbrt_curve(out, *ef.feather, c, v);
+    out += "ObjectEnd\n";
+  }
+  out += "\n# Placements: Transform lists the 4x4 matrix column by column, as pbrt reads it.\n";
+  for (const ExportPlacement& p : in.placements) {
+    out += "AttributeBegin\n  Transform [";
+    for (int col = 0; col < 4; ++col)
+      for (int row = 0; row < 4; ++row) {
+        out += ' ';
+        append_float(out, finite_float(p.to_world[col][row]));
+      }
+    out += " ]\n  ObjectInstance \"" + in.feathers[p.feather].name + "\"\nAttributeEnd\n";
+  }
+  if (v == PbrtVersion::V3) out += "WorldEnd\n";
   return out;
 }
 
@@ -323,6 +409,8 @@ float pbrt_fov_deg(const ExportScene& s) {
 
 std::string format_pbrt_v4(const Feather& f, const ExportScene& s) { return format_pbrt(f, s, PbrtVersion::V4); }
 std::string format_pbrt_v3(const Feather& f, const ExportScene& s) { return format_pbrt(f, s, PbrtVersion::V3); }
+std::string format_pbrt_v4(const ExportInstances& in, const ExportScene& s) { return format_pbrt(in, s, PbrtVersion::V4); }
+std::string format_pbrt_v3(const ExportInstances& in, const ExportScene& s) { return format_pbrt(in, s, PbrtVersion::V3); }
 
 std::string format_mitsuba_curves(const Feather& f) {
   validate_feather(f);
@@ -344,10 +432,12 @@ std::string format_mitsuba_curves(const Feather& f) {
   return out;
 }
 
-std::string format_mitsuba_scene(const Feather& f, const ExportScene& s, const std::string& curves_filename) {
-  validate_feather(f);
-  std::string head;
-  append_provenance_comment(head, f, "   ");
+namespace {
+
+// The XML up to the feathers: the comment, integrator, sensor, lights and card.
+// `what` is the provenance comment (one feather's, or the scene's).
+std::string mitsuba_head(const std::string& what, const ExportScene& s) {
+  std::string head = what;
   append_scene_comment(head, s, "   ");
   head += "    Mitsuba's bsplinecurve is a round tube: the barbs keep plumage's width, but plumage's\n"
           "    hair mode draws them as flat ribbons facing the ray (docs/exporters.md).\n";
@@ -391,38 +481,79 @@ std::string format_mitsuba_scene(const Feather& f, const ExportScene& s, const s
     out += "        <bsdf type=\"diffuse\"><rgb name=\"reflectance\" value=\"" + mitsuba_triple(c.albedo) +
            "\"/></bsdf>\n    </shape>\n";
   }
-  out += "    <shape type=\"bsplinecurve\">\n        <string name=\"filename\" value=\"" + xml_escaped(curves_filename) +
-         "\"/>\n";
-  out += "        <!-- Chiang et al. 2016 with plumage's sigma_a (per unit radius); scale_tilt is pbrt's alpha\n"
-         "             (Mitsuba's hair BSDF follows pbrt-v3): minus plumage's alpha. -->\n";
-  out += "        <bsdf type=\"hair\">\n";
-  out += "            <rgb name=\"sigma_a\" value=\"" + mitsuba_triple(s.material.sigma_a) + "\"/>\n";
-  append_xml_float(out, "            ", "longitudinal_roughness", s.material.beta_m);
-  append_xml_float(out, "            ", "azimuthal_roughness", s.material.beta_n);
-  append_xml_float(out, "            ", "scale_tilt", -s.material.alpha_deg);
-  append_xml_float(out, "            ", "int_ior", s.material.eta);
-  append_xml_float(out, "            ", "ext_ior", 1.0f);
-  out += "        </bsdf>\n    </shape>\n</scene>\n";
   return out;
 }
 
-std::string format_obj(const Feather& f) {
+// A bsplinecurve shape loading `curves_filename` with the hair BSDF of `m`,
+// indented by `in` (four spaces at the scene's top level).
+std::string mitsuba_curves_shape(const std::string& curves_filename, const ExportMaterial& m, const std::string& in) {
+  std::string out = in + "<shape type=\"bsplinecurve\">\n" + in + "    <string name=\"filename\" value=\"" +
+                    xml_escaped(curves_filename) + "\"/>\n";
+  out += in + "    <!-- Chiang et al. 2016 with plumage's sigma_a (per unit radius); scale_tilt is pbrt's alpha\n" + in +
+         "         (Mitsuba's hair BSDF follows pbrt-v3): minus plumage's alpha. -->\n";
+  out += in + "    <bsdf type=\"hair\">\n";
+  out += in + "        <rgb name=\"sigma_a\" value=\"" + mitsuba_triple(m.sigma_a) + "\"/>\n";
+  const std::string deeper = in + "        ";
+  append_xml_float(out, deeper.c_str(), "longitudinal_roughness", m.beta_m);
+  append_xml_float(out, deeper.c_str(), "azimuthal_roughness", m.beta_n);
+  append_xml_float(out, deeper.c_str(), "scale_tilt", -m.alpha_deg);
+  append_xml_float(out, deeper.c_str(), "int_ior", m.eta);
+  append_xml_float(out, deeper.c_str(), "ext_ior", 1.0f);
+  out += in + "    </bsdf>\n" + in + "</shape>\n";
+  return out;
+}
+
+}  // namespace
+
+std::string format_mitsuba_scene(const Feather& f, const ExportScene& s, const std::string& curves_filename) {
   validate_feather(f);
-  std::string out;
-  out.reserve(512 + f.num_control_points() * 40);
-  append_provenance_comment(out, f, "#");
-  out +=
-      "# Uniform cubic B-splines as OBJ free-form curves (knots 0, 1, 2, ...; the curve\n"
-      "# spans parameters [3, n] for n control points). OBJ has no radius or normal:\n"
-      "# they stay in the .fcurves file.\n";
-  std::size_t next_vertex = 1;  // OBJ vertex indices are 1-based and global
+  std::string what;
+  append_provenance_comment(what, f, "   ");
+  return mitsuba_head(what, s) + mitsuba_curves_shape(curves_filename, s.material, "    ") + "</scene>\n";
+}
+
+std::string format_mitsuba_scene(const ExportInstances& in, const ExportScene& s,
+                                 const std::vector<std::string>& curve_files) {
+  validate_instances(in);
+  if (curve_files.size() != in.feathers.size())
+    throw Error("a Mitsuba scene of " + std::to_string(in.feathers.size()) + " feathers needs as many curve files");
+  std::string out = mitsuba_head(instances_comment(in, "   "), s);
+  out += "    <!-- Each distinct feather once, a shapegroup with its own material; each placement an instance\n"
+         "         (its to_world matrix row by row). -->\n";
+  for (std::size_t i = 0; i < in.feathers.size(); ++i) {
+    out += "    <shape type=\"shapegroup\" id=\"feather_" + in.feathers[i].name + "\">\n";
+    out += mitsuba_curves_shape(curve_files[i], in.feathers[i].material, "        ");
+    out += "    </shape>\n";
+  }
+  for (const ExportPlacement& p : in.placements) {
+    out += "    <shape type=\"instance\">\n        <ref id=\"feather_" + in.feathers[p.feather].name + "\"/>\n";
+    out += "        <transform name=\"to_world\"><matrix value=\"";
+    for (int row = 0; row < 4; ++row)
+      for (int col = 0; col < 4; ++col) {
+        if (row || col) out += ' ';
+        append_float(out, finite_float(p.to_world[col][row]));
+      }
+    out += "\"/></transform>\n    </shape>\n";
+  }
+  out += "</scene>\n";
+  return out;
+}
+
+namespace {
+
+// The curves of `f` as OBJ objects named `prefix` + shaft / barb_SIDE_K, their
+// control points carried by `to_world`; vertices numbered from `next_vertex`.
+void append_obj_curves(std::string& out, const Feather& f, const std::string& prefix, const glm::mat4& to_world,
+                       std::size_t& next_vertex) {
   std::size_t barb = 0;
+  const bool identity = to_world == glm::mat4(1.0f);
   for (const Curve& c : f.curves) {
     const std::size_t n = c.points.size();
+    out += "o " + prefix;
     if (c.kind == CurveKind::Shaft) {
-      out += "o shaft\n";
+      out += "shaft\n";
     } else {
-      out += "o barb_";
+      out += "barb_";
       out += to_string(c.side);
       out += '_';
       append_int(out, barb++);
@@ -430,7 +561,7 @@ std::string format_obj(const Feather& f) {
     }
     for (const ControlPoint& p : c.points) {
       out += "v ";
-      append_vec3(out, p.p);
+      append_vec3(out, identity ? p.p : finite_vec3(glm::dvec3(to_world * glm::vec4(p.p, 1.0f))));
       out += '\n';
     }
     out += "cstype bspline\ndeg 3\ncurv 3 ";
@@ -446,6 +577,43 @@ std::string format_obj(const Feather& f) {
     }
     out += "\nend\n";
     next_vertex += n;
+  }
+}
+
+constexpr const char* kObjCurvesComment =
+    "# Uniform cubic B-splines as OBJ free-form curves (knots 0, 1, 2, ...; the curve\n"
+    "# spans parameters [3, n] for n control points). OBJ has no radius or normal:\n"
+    "# they stay in the .fcurves file.\n";
+
+}  // namespace
+
+std::string format_obj(const Feather& f) {
+  validate_feather(f);
+  std::string out;
+  out.reserve(512 + f.num_control_points() * 40);
+  append_provenance_comment(out, f, "#");
+  out += kObjCurvesComment;
+  std::size_t next_vertex = 1;  // OBJ vertex indices are 1-based and global
+  append_obj_curves(out, f, "", glm::mat4(1.0f), next_vertex);
+  return out;
+}
+
+std::string format_obj(const ExportInstances& in) {
+  validate_instances(in);
+  std::string out = instances_comment(in, "#");
+  out += kObjCurvesComment;
+  out += "# OBJ has no instancing: every placement's curves are written carried into the scene,\n"
+         "# named pK_FEATHER_... for placement K (from 0) of feather FEATHER.\n";
+  std::size_t next_vertex = 1;
+  for (std::size_t k = 0; k < in.placements.size(); ++k) {
+    const ExportPlacement& p = in.placements[k];
+    const ExportFeather& ef = in.feathers[p.feather];
+    std::string prefix = "p";
+    append_int(prefix, k);
+    prefix += '_';
+    prefix += ef.name;
+    prefix += '_';
+    append_obj_curves(out, *ef.feather, prefix, p.to_world, next_vertex);
   }
   return out;
 }
@@ -480,36 +648,10 @@ std::string py_string(const std::string& s) {
   return r + "\"";
 }
 
-std::string format_blender(const Feather& f, const ExportScene& s) {
-  validate_feather(f);
-  std::string out;
-  out.reserve(8192 + f.num_control_points() * 48);
-  out += "# Blender 3.4+ script written by `plumage export`: run `blender -b -P THIS.py -o //render_ -F OPEN_EXR -f 1`\n"
-         "# to render, or `blender -P THIS.py` to open the scene. Units: 1 Blender unit = 1 mm.\n";
-  append_provenance_comment(out, f, "#");
-  append_scene_comment(out, s, "#");
-  out += "# Curves: uniform cubic B-splines (NURBS order 4, uniform knots) with the radius plumage draws\n"
-         "# them with, converted to a Curves object so that Cycles renders them as hair (ray-facing\n"
-         "# ribbons, as plumage's hair mode draws barbs). docs/exporters.md says what is approximated.\n"
-         "import math\n\nimport bpy\nfrom mathutils import Vector\n\n";
-  out += "# One tuple of (x, y, z, radius) control points per curve; the shaft first.\nCURVES = [\n";
-  for (const Curve& c : f.curves) {
-    out += "    (";
-    const std::vector<float> radii = render_radii(f, c);
-    for (std::size_t i = 0; i < c.points.size(); ++i) {
-      const ControlPoint& p = c.points[i];
-      out += py_tuple({p.p.x, p.p.y, p.p.z, radii[i]});
-      out += ", ";
-    }
-    out += "),\n";
-  }
-  out += "]\n";
-  out += "SIGMA_A = " + py_tuple({s.material.sigma_a.x, s.material.sigma_a.y, s.material.sigma_a.z}) +
-         "  # per unit fibre radius, as Cycles' absorption coefficient\n";
-  out += "BETA_M, BETA_N, ETA = " + py_number(s.material.beta_m) + ", " + py_number(s.material.beta_n) + ", " +
-         py_number(s.material.eta);
-  out += "\n# Cycles' Offset follows pbrt's alpha (minus plumage's), in radians.\nALPHA_DEG = ";
-  append_float(out, -s.material.alpha_deg);
+namespace {
+
+// The camera, image, LEDs, environment and card constants of a Blender script.
+void append_blender_view(std::string& out, const ExportScene& s) {
   out += "\nCAMERA_EYE, CAMERA_TARGET, CAMERA_UP = " +
          py_tuple({s.camera.eye.x, s.camera.eye.y, s.camera.eye.z}) + ", " +
          py_tuple({s.camera.look_at.x, s.camera.look_at.y, s.camera.look_at.z}) + ", " +
@@ -535,8 +677,11 @@ std::string format_blender(const Feather& f, const ExportScene& s) {
                       py_number(s.card->half_side) + ", " +
                       py_tuple({s.card->albedo.x, s.card->albedo.y, s.card->albedo.z}) + ")"
                 : std::string("None");
-  out += "\nNAME = " + py_string(f.provenance.source.empty() ? "plumage feather" : f.provenance.source) + "\n";
-  out += R"PY(
+}
+
+// The script's Python: helpers, the single feather's curves, a scene's feathers and
+// placements, lights and camera, and the calls.
+constexpr const char* kBlenderHelpers = R"PY(
 
 def clear_scene():
     for ob in list(bpy.data.objects):
@@ -556,10 +701,14 @@ def surface_material(name, shader):
     return mat, bsdf
 
 
-def build_curves():
-    cu = bpy.data.curves.new("feather", "CURVE")
+)PY";
+constexpr const char* kBlenderBuildCurves = R"PY(def curves_object(name, curves, sigma_a, beta_m, beta_n, eta, alpha_deg):
+    """A Curves object of uniform cubic B-splines with the hair material, in the scene."""
+    for other in bpy.context.view_layer.objects:
+        other.select_set(False)
+    cu = bpy.data.curves.new(name, "CURVE")
     cu.dimensions = "3D"
-    for points in CURVES:
+    for points in curves:
         sp = cu.splines.new("NURBS")
         sp.points.add(len(points) - 1)
         for p, (x, y, z, r) in zip(sp.points, points):
@@ -567,26 +716,32 @@ def build_curves():
             p.radius = r
         sp.order_u = 4
         sp.use_endpoint_u = False
-    ob = bpy.data.objects.new("feather", cu)
+    ob = bpy.data.objects.new(name, cu)
     bpy.context.scene.collection.objects.link(ob)
     bpy.context.view_layer.objects.active = ob
     ob.select_set(True)
     bpy.ops.object.convert(target="CURVES")
     ob = bpy.context.view_layer.objects.active
-    mat, hair = surface_material("plumage hair", "ShaderNodeBsdfHairPrincipled")
+    mat, hair = surface_material("plumage hair " + name, "ShaderNodeBsdfHairPrincipled")
     hair.parametrization = "ABSORPTION"
-    hair.inputs["Absorption Coefficient"].default_value = SIGMA_A
-    hair.inputs["Roughness"].default_value = BETA_M
-    hair.inputs["Radial Roughness"].default_value = BETA_N
+    hair.inputs["Absorption Coefficient"].default_value = sigma_a
+    hair.inputs["Roughness"].default_value = beta_m
+    hair.inputs["Radial Roughness"].default_value = beta_n
     hair.inputs["Coat"].default_value = 0.0
-    hair.inputs["IOR"].default_value = ETA
-    hair.inputs["Offset"].default_value = math.radians(ALPHA_DEG)
+    hair.inputs["IOR"].default_value = eta
+    hair.inputs["Offset"].default_value = math.radians(alpha_deg)
     hair.inputs["Random Roughness"].default_value = 0.0
     ob.data.materials.append(mat)
     return ob
 
 
-def build_lights():
+)PY";
+constexpr const char* kBlenderBuildOne = R"PY(def build_curves():
+    return curves_object("feather", CURVES, SIGMA_A, BETA_M, BETA_N, ETA, ALPHA_DEG)
+
+
+)PY";
+constexpr const char* kBlenderLightsAndCamera = R"PY(def build_lights():
     for i, (centre, radius, radiance) in enumerate(LEDS):
         light = bpy.data.lights.new("LED %d" % (i + 1), "POINT")
         light.shadow_soft_size = radius
@@ -654,12 +809,128 @@ def build_camera_and_settings():
     scene.view_settings.view_transform = "Standard"
 
 
-clear_scene()
+)PY";
+constexpr const char* kBlenderMain = R"PY(clear_scene()
 build_curves()
 build_lights()
 build_camera_and_settings()
 print("plumage: built %d curves for %s" % (len(CURVES), NAME))
 )PY";
+constexpr const char* kBlenderBuildPlacements = R"PY(def build_placements():
+    """Each distinct feather's Curves datablock once (the object that made it is not
+    kept), then an object per placement that shares it, its matrix the placement's."""
+    from mathutils import Matrix
+    datas = []
+    for feather in FEATHERS:
+        ob = curves_object(*feather)
+        data = ob.data
+        data.use_fake_user = True
+        bpy.data.objects.remove(ob)
+        datas.append(data)
+    for k, (i, rows) in enumerate(PLACEMENTS):
+        ob = bpy.data.objects.new("p%d_%s" % (k, FEATHERS[i][0]), datas[i])
+        ob.matrix_world = Matrix(rows)
+        bpy.context.scene.collection.objects.link(ob)
+
+
+)PY";
+constexpr const char* kBlenderSceneMain = R"PY(clear_scene()
+build_placements()
+build_lights()
+build_camera_and_settings()
+print("plumage: built %d feathers in %d placements" % (len(FEATHERS), len(PLACEMENTS)))
+)PY";
+
+}  // namespace
+
+std::string format_blender(const Feather& f, const ExportScene& s) {
+  validate_feather(f);
+  std::string out;
+  out.reserve(8192 + f.num_control_points() * 48);
+  out += "# Blender 3.4+ script written by `plumage export`: run `blender -b -P THIS.py -o //render_ -F OPEN_EXR -f 1`\n"
+         "# to render, or `blender -P THIS.py` to open the scene. Units: 1 Blender unit = 1 mm.\n";
+  append_provenance_comment(out, f, "#");
+  append_scene_comment(out, s, "#");
+  out += "# Curves: uniform cubic B-splines (NURBS order 4, uniform knots) with the radius plumage draws\n"
+         "# them with, converted to a Curves object so that Cycles renders them as hair (ray-facing\n"
+         "# ribbons, as plumage's hair mode draws barbs). docs/exporters.md says what is approximated.\n"
+         "import math\n\nimport bpy\nfrom mathutils import Vector\n\n";
+  out += "# One tuple of (x, y, z, radius) control points per curve; the shaft first.\nCURVES = [\n";
+  for (const Curve& c : f.curves) {
+    out += "    (";
+    const std::vector<float> radii = render_radii(f, c);
+    for (std::size_t i = 0; i < c.points.size(); ++i) {
+      const ControlPoint& p = c.points[i];
+      out += py_tuple({p.p.x, p.p.y, p.p.z, radii[i]});
+      out += ", ";
+    }
+    out += "),\n";
+  }
+  out += "]\n";
+  out += "SIGMA_A = " + py_tuple({s.material.sigma_a.x, s.material.sigma_a.y, s.material.sigma_a.z}) +
+         "  # per unit fibre radius, as Cycles' absorption coefficient\n";
+  out += "BETA_M, BETA_N, ETA = " + py_number(s.material.beta_m) + ", " + py_number(s.material.beta_n) + ", " +
+         py_number(s.material.eta);
+  out += "\n# Cycles' Offset follows pbrt's alpha (minus plumage's), in radians.\nALPHA_DEG = ";
+  append_float(out, -s.material.alpha_deg);
+  append_blender_view(out, s);
+  out += "\nNAME = " + py_string(f.provenance.source.empty() ? "plumage feather" : f.provenance.source) + "\n";
+  out += kBlenderHelpers;
+  out += kBlenderBuildCurves;
+  out += kBlenderBuildOne;
+  out += kBlenderLightsAndCamera;
+  out += kBlenderMain;
+  return out;
+}
+
+std::string format_blender(const ExportInstances& in, const ExportScene& s) {
+  validate_instances(in);
+  std::string out;
+  out += "# Blender 3.4+ script written by `plumage export`: run `blender -b -P THIS.py -o //render_ -F OPEN_EXR -f 1`\n"
+         "# to render, or `blender -P THIS.py` to open the scene. Units: 1 Blender unit = 1 mm.\n";
+  out += instances_comment(in, "#");
+  append_scene_comment(out, s, "#");
+  out += "# Each distinct feather is one Curves datablock (uniform cubic B-splines as NURBS order 4, with\n"
+         "# the radius plumage draws them with) and its own Principled Hair material; each placement is an\n"
+         "# object that shares it, its matrix the placement's. docs/exporters.md says what is approximated.\n"
+         "import math\n\nimport bpy\nfrom mathutils import Vector\n\n";
+  out += "# Per feather: (name, curves of (x, y, z, radius) control points, sigma_a per unit radius,\n"
+         "# beta_m, beta_n, eta, Cycles' Offset in degrees: minus plumage's alpha).\nFEATHERS = [\n";
+  for (const ExportFeather& ef : in.feathers) {
+    out += "    (" + py_string(ef.name) + ", (\n";
+    for (const Curve& c : ef.feather->curves) {
+      out += "        (";
+      const std::vector<float> radii = render_radii(*ef.feather, c);
+      for (std::size_t i = 0; i < c.points.size(); ++i) {
+        out += py_tuple({c.points[i].p.x, c.points[i].p.y, c.points[i].p.z, radii[i]});
+        out += ", ";
+      }
+      out += "),\n";
+    }
+    const ExportMaterial& m = ef.material;
+    out += "    ), " + py_tuple({m.sigma_a.x, m.sigma_a.y, m.sigma_a.z}) + ", " + py_number(m.beta_m) + ", " +
+           py_number(m.beta_n) + ", " + py_number(m.eta) + ", " + py_number(-m.alpha_deg) + "),\n";
+  }
+  out += "]\n# Per placement: (feather index, its 4x4 matrix row by row).\nPLACEMENTS = [\n";
+  for (const ExportPlacement& p : in.placements) {
+    out += "    (";
+    append_int(out, p.feather);
+    out += ", (";
+    for (int row = 0; row < 4; ++row) {
+      const glm::vec4 r(p.to_world[0][row], p.to_world[1][row], p.to_world[2][row], p.to_world[3][row]);
+      out += py_tuple({finite_float(r.x), finite_float(r.y), finite_float(r.z), finite_float(r.w)});
+      out += row < 3 ? ", " : "";
+    }
+    out += ")),\n";
+  }
+  out += "]";
+  append_blender_view(out, s);
+  out += "\n";
+  out += kBlenderHelpers;
+  out += kBlenderBuildCurves;
+  out += kBlenderBuildPlacements;
+  out += kBlenderLightsAndCamera;
+  out += kBlenderSceneMain;
   return out;
 }
 
@@ -698,6 +969,47 @@ void export_feather(const std::filesystem::path& path, const Feather& f, ExportF
   const std::string scene = format_mitsuba_scene(f, s, path.filename().string());
   write_file_atomic(path, text);
   write_file_atomic(mitsuba_scene_path(path), scene);
+}
+
+std::filesystem::path mitsuba_feather_path(const std::filesystem::path& path, const std::string& name) {
+  std::filesystem::path p = path;
+  p.replace_filename(path.stem().string() + "." + name + ".txt");
+  return p;
+}
+
+void export_instances(const std::filesystem::path& path, const ExportInstances& in, ExportFormat format,
+                      const ExportScene& s) {
+  if (format == ExportFormat::Fcurves)
+    throw Error("a scene's feathers are .fcurves files already; export one of them, or give another --format");
+  // Every text first: a failure leaves nothing on disk.
+  std::vector<std::pair<std::filesystem::path, std::string>> files;
+  switch (format) {
+    case ExportFormat::Pbrt:
+      files.emplace_back(path, format_pbrt_v4(in, s));
+      break;
+    case ExportFormat::PbrtV3:
+      files.emplace_back(path, format_pbrt_v3(in, s));
+      break;
+    case ExportFormat::Obj:
+      files.emplace_back(path, format_obj(in));
+      break;
+    case ExportFormat::Blender:
+      files.emplace_back(path, format_blender(in, s));
+      break;
+    case ExportFormat::Mitsuba: {
+      std::vector<std::string> names;
+      for (const ExportFeather& ef : in.feathers) {
+        const std::filesystem::path curves = mitsuba_feather_path(path, ef.name);
+        names.push_back(curves.filename().string());
+        files.emplace_back(curves, format_mitsuba_curves(*ef.feather));
+      }
+      files.emplace_back(mitsuba_scene_path(path), format_mitsuba_scene(in, s, names));
+      break;
+    }
+    case ExportFormat::Fcurves:
+      break;
+  }
+  for (const auto& [file, text] : files) write_file_atomic(file, text);
 }
 
 }  // namespace plumage

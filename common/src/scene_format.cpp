@@ -64,7 +64,9 @@ class Reader : LineReader {
 };
 
 void Reader::parse_feather(FeatherScene& s) {
-  if (tok_.size() < 3) fail(end_column(), "feather: expected 'feather NAME fcurves \"FILE\"' or 'feather NAME preset PRESET seed N'");
+  if (tok_.size() < 3)
+    fail(end_column(), "feather: expected 'feather NAME fcurves \"FILE\"', 'feather NAME preset PRESET seed N' or "
+                       "'feather NAME layout \"FILE\" feather ID seed N'");
   const Token& name = tok_[1];
   if (const std::string bad = name_problem(name.text); !bad.empty()) fail(name, "feather '" + printable(name.text) + "': " + bad);
   if (const auto it = names_.find(name.text); it != names_.end())
@@ -88,8 +90,19 @@ void Reader::parse_feather(FeatherScene& s) {
     if (const std::string bad = name_problem(f.preset); !bad.empty()) fail(tok_[3], "feather preset: not a preset name");
     if (tok_[4].text != "seed") fail(tok_[4], "feather preset: expected 'seed N' after the preset's name");
     f.seed = unsigned_int(tok_[5], "feather seed");
+  } else if (kind.text == "layout") {
+    expect_count(8, "feather NAME layout \"FILE\" feather ID seed N");
+    f.source = SceneFeatherSource::Layout;
+    f.path = quoted(tok_[3], "feather layout");
+    if (f.path.empty()) fail(tok_[3], "feather layout: the file name is empty");
+    if (tok_[4].text != "feather")
+      fail(tok_[4], "feather layout: expected 'feather ID' after the file (the id analyze gave it, F<id> on its overlay)");
+    f.layout_feather = unsigned_int(tok_[5], "feather layout id");
+    if (f.layout_feather > kMaxLayoutFeatherId) fail(tok_[5], "feather layout: the id is larger than any layout holds");
+    if (tok_[6].text != "seed") fail(tok_[6], "feather layout: expected 'seed N' after the feather's id");
+    f.seed = unsigned_int(tok_[7], "feather seed");
   } else {
-    fail(kind, "feather: unknown source '" + printable(kind.text) + "' (expected fcurves or preset)");
+    fail(kind, "feather: unknown source '" + printable(kind.text) + "' (expected fcurves, preset or layout)");
   }
   names_.emplace(f.name, s.feathers.size());
   s.feathers.push_back(std::move(f));
@@ -244,11 +257,13 @@ void validate_scene(const FeatherScene& s) {
     if (const std::string bad = name_problem(f.name); !bad.empty()) fail("feather " + std::to_string(i) + ": " + bad);
     for (std::size_t j = 0; j < i; ++j)
       if (s.feathers[j].name == f.name) fail("feather '" + f.name + "' defined twice");
-    if (f.source == SceneFeatherSource::Fcurves &&
+    if (f.source != SceneFeatherSource::Preset &&
         (f.path.empty() || !printable_string(f.path) || invalid_utf8_at(f.path) != std::string_view::npos))
       fail("feather '" + f.name + "': its file name is empty, not UTF-8 or holds a control character");
     if (f.source == SceneFeatherSource::Preset && !name_problem(f.preset).empty())
       fail("feather '" + f.name + "': not a preset name");
+    if (f.source == SceneFeatherSource::Layout && f.layout_feather > kMaxLayoutFeatherId)
+      fail("feather '" + f.name + "': the layout feather id is larger than any layout holds");
   }
   for (std::size_t i = 0; i < s.placements.size(); ++i) {
     const ScenePlacement& p = s.placements[i];
@@ -274,6 +289,13 @@ std::string format_fscene(const FeatherScene& s) {
     if (f.source == SceneFeatherSource::Fcurves) {
       out += " fcurves ";
       append_quoted(out, f.path);
+    } else if (f.source == SceneFeatherSource::Layout) {
+      out += " layout ";
+      append_quoted(out, f.path);
+      out += " feather ";
+      append_int(out, f.layout_feather);
+      out += " seed ";
+      append_int(out, f.seed);
     } else {
       out += " preset " + f.preset + " seed ";
       append_int(out, f.seed);

@@ -2,7 +2,10 @@
 
 #include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
+#include "plumage/common/image.h"
 #include "plumage/generator/builder.h"
+#include "plumage/generator/layout_to_params.h"
+#include "plumage/layout/layout.h"
 #include "plumage/generator/presets.h"
 #include "plumage/renderer/camera.h"
 #include "plumage/renderer/shading_level.h"
@@ -26,6 +29,25 @@ LoadedScene load_scene(const std::filesystem::path& path) {
         const std::filesystem::path file = std::filesystem::path(f.path).is_absolute() ? std::filesystem::path(f.path) : folder / f.path;
         out.feathers.push_back(read_fcurves(file));
         out.folders.push_back(file.parent_path().empty() ? "." : file.parent_path());
+      } else if (f.source == SceneFeatherSource::Layout) {
+        // The curves `plumage generate --layout FILE --feather ID --seed N` builds,
+        // coloured by the mean of the analysed albedo under the photo's mask (as
+        // `plumage wing --layout` colours its keys): the texture generate would
+        // write beside a curve file is not written by a render.
+        const std::filesystem::path file = std::filesystem::path(f.path).is_absolute() ? std::filesystem::path(f.path) : folder / f.path;
+        const std::filesystem::path dir = file.parent_path().empty() ? "." : file.parent_path();
+        const Layout layout = read_layout(file);
+        const FeatherLayout& chosen = pick_feather(layout, int(f.layout_feather), file.string());
+        Feather feather = layout_to_feather(chosen, f.seed, dir, dir, file.string());
+        if (!feather.albedo.texture.empty()) {
+          glm::vec3 mean;
+          albedo_for_render(read_image(dir / chosen.albedo.file), &mean);
+          feather.albedo.color = mean * feather.albedo.scale;
+          feather.albedo.texture.clear();
+          feather.albedo.scale = 1;
+        }
+        out.feathers.push_back(std::move(feather));
+        out.folders.push_back(dir);
       } else {
         out.feathers.push_back(build_feather(load_preset(f.preset), f.seed, "preset:" + f.preset));
         out.folders.push_back(folder);

@@ -80,6 +80,26 @@ struct ExportScene {
   std::string material_note;                   // one line on what the material leaves out, or empty
 };
 
+// A scene of many feathers (a .fscene, docs/scene-format.md) for the exporters:
+// each distinct feather once, with its name and its own material, and the
+// placements that put it into the scene. pbrt and Mitsuba get real instancing
+// (pbrt's ObjectBegin/ObjectInstance, Mitsuba's shapegroup/instance), Blender
+// objects that share one Curves datablock, OBJ every placement's curves carried
+// into the scene (it has no instancing).
+struct ExportFeather {
+  std::string name;                  // 1-64 of A-Z a-z 0-9 _ - . (a .fscene feather name); unique
+  const Feather* feather = nullptr;  // must outlive the call
+  ExportMaterial material;
+};
+struct ExportPlacement {
+  std::size_t feather = 0;  // index into ExportInstances::feathers
+  glm::mat4 to_world{1.0f};  // affine; the .fscene reader keeps it a similarity
+};
+struct ExportInstances {
+  std::vector<ExportFeather> feathers;
+  std::vector<ExportPlacement> placements;
+};
+
 // pbrt's "fov" is that of the image's shorter side; plumage's is vertical.
 float pbrt_fov_deg(const ExportScene& scene);
 
@@ -92,6 +112,25 @@ std::string format_mitsuba_scene(const Feather& feather, const ExportScene& scen
                                  const std::string& curves_filename);
 std::string format_obj(const Feather& feather);
 std::string format_blender(const Feather& feather, const ExportScene& scene);
+
+// A scene of placed feathers. The scene's ExportScene::material is not used (each
+// feather has its own). Throws plumage::Error for no feather or placement, a bad or
+// repeated name, a feather index out of range or a non-finite transform.
+std::string format_pbrt_v4(const ExportInstances& scene, const ExportScene& s);
+std::string format_pbrt_v3(const ExportInstances& scene, const ExportScene& s);
+// `curve_files[i]`: feather i's curves file (format_mitsuba_curves), relative to the XML.
+std::string format_mitsuba_scene(const ExportInstances& scene, const ExportScene& s,
+                                 const std::vector<std::string>& curve_files);
+std::string format_obj(const ExportInstances& scene);
+std::string format_blender(const ExportInstances& scene, const ExportScene& s);
+// Writes the scene atomically per file, every text built before the first is
+// written. Mitsuba: one curves file per distinct feather beside `path`
+// (mitsuba_feather_path) and the scene XML at mitsuba_scene_path(path); nothing
+// at `path` itself. Fcurves is refused: a .fscene's feathers are curve files already.
+void export_instances(const std::filesystem::path& path, const ExportInstances& scene, ExportFormat format,
+                      const ExportScene& s);
+// Where export_instances puts feather `name`'s Mitsuba curves for a scene exported to `path`.
+std::filesystem::path mitsuba_feather_path(const std::filesystem::path& path, const std::string& name);
 
 // The text of `feather` in `format` (for Mitsuba, the curves file).
 std::string export_text(const Feather& feather, ExportFormat format, const ExportScene& scene);

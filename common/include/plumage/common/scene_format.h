@@ -1,7 +1,7 @@
 #pragma once
 // The plain-text scene format `.fscene` (docs/scene-format.md): many feathers in
-// one scene. It defines feathers by name (a .fcurves file, or a species preset
-// with a seed) and places them, each placement one feather and an affine
+// one scene. It defines feathers by name (a .fcurves file, a species preset with a
+// seed, or a feather of an analysed layout.json with a seed) and places them, each placement one feather and an affine
 // transform (rotation, uniform scale, mirroring and translation), with an
 // optional camera and dome-LED selection. A feather defined once and placed many
 // times is built once (instancing; renderer/world.h).
@@ -25,16 +25,19 @@ inline constexpr int kFsceneVersion = 1;
 // Bounds that keep a hostile file from asking for unbounded work or memory.
 inline constexpr std::size_t kMaxSceneFeathers = 4096;
 inline constexpr std::size_t kMaxScenePlacements = 1u << 20;
+// A layout feather's id is an int in layout.json; larger ids name no feather.
+inline constexpr std::uint64_t kMaxLayoutFeatherId = 2147483647;
 
-enum class SceneFeatherSource { Fcurves, Preset };
+enum class SceneFeatherSource { Fcurves, Preset, Layout };
 
 // One feather the scene defines (`feather NAME ...`).
 struct SceneFeather {
   std::string name;  // letters, digits, '_', '-', '.'; unique in the scene
   SceneFeatherSource source = SceneFeatherSource::Fcurves;
-  std::string path;    // Fcurves: the curve file, relative to the scene file's folder unless absolute
+  std::string path;    // Fcurves, Layout: the curve file or layout.json, relative to the scene file's folder unless absolute
   std::string preset;  // Preset: the preset's name (plumage generate --list-presets)
-  std::uint64_t seed = 1;  // Preset: the generator's seed
+  std::uint64_t layout_feather = 0;  // Layout: the feather's id in the layout (F<id> on analyze's overlay)
+  std::uint64_t seed = 1;  // Preset, Layout: the generator's seed
   int line = 0;            // where it was defined (0 for a scene not read from text)
 };
 

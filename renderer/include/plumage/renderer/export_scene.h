@@ -10,6 +10,7 @@
 #include "plumage/renderer/dome_rig.h"
 #include "plumage/renderer/feather_render.h"
 #include "plumage/renderer/scene.h"
+#include "plumage/renderer/world.h"
 
 namespace plumage {
 
@@ -20,5 +21,12 @@ namespace plumage {
 // cannot carry (a constant environment they can).
 ExportScene export_scene(const Feather& feather, const DomeRig& rig, const ViewSpec& view,
                          const SceneOptions& options);
+
+// The same for a world of placed feathers (world.h; `plumage export scene.fscene`):
+// the camera frames the world, the card is the world's, and `materials` receives
+// each distinct feather's material as above, in the world's order (ExportScene::
+// material is feather 0's). `mode` is the mode the scene stands for.
+ExportScene export_scene(const World& world, const DomeRig& rig, const ViewSpec& view, ShadingMode mode,
+                         std::vector<ExportMaterial>& materials);
 
 }  // namespace plumage

@@ -98,8 +98,10 @@ class World {
   // The world bounds of every placed feather, radii included (the card left out).
   const Bounds3f& bounds() const { return bounds_; }
   const BackdropSpec& backdrop() const { return backdrop_; }
-  // The card's height (meaningful when backdrop().enabled).
+  // The card's height, centre (x, y) and half side (meaningful when backdrop().enabled).
   float backdrop_z() const { return backdrop_z_; }
+  glm::vec2 backdrop_centre() const { return backdrop_centre_; }
+  float backdrop_half_side() const { return backdrop_half_; }
 
  private:
   struct Placed {
