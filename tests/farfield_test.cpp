@@ -95,6 +95,8 @@ double stat(const std::string& name) { return stats_snapshot()[name]; }
 
 using test::gamma_q;
 
+
+
 }  // namespace
 
 // --- bins ---------------------------------------------------------------------------
@@ -591,6 +593,55 @@ TEST(FarfieldFit, PolylinePatchMatchesTheBSplinePatch) {
   EXPECT_GT(f_thick, 1.5 * noise);
   std::printf("  polylines vs B-splines: T %.2f sigma, F %.4f (noise %.4f); thicker barbules: T %.1f sigma, F %.4f\n",
               t_same, f_same, noise, t_thick, f_thick);
+}
+
+// f_cos reads row O of the symmetric table where the model is defined by column O
+// (F[I][O]): the same numbers, so the same value to the bit. The estimate that
+// weighs the lights for next-event estimation (its azimuth from a float atan2)
+// follows f_cos within 1e-4 of the table's largest entry. A cache file whose table is not
+// symmetric is refused.
+TEST(Farfield, RowReadsEqualTheTableAndTheEstimateFollowsFCos) {
+  const FarfieldModel& m = coloured_model();
+  const std::size_t n = std::size_t(m.bins.count());
+  float largest = 0;
+  for (const glm::vec3& v : m.F) largest = std::max({largest, v.x, v.y, v.z});
+  std::mt19937 rng(23);
+  int compared = 0;
+  for (int t = 0; t < 4000; ++t) {
+    const glm::vec3 wo = random_direction(rng), wi = random_direction(rng);
+    const FarfieldModel::Outgoing o = m.outgoing(wo);
+    const glm::vec3 f = m.f_cos(o, wi, nullptr);
+    int I;
+    const FarfieldBins::Lerp li = m.bins.lerp(wi, &I);
+    glm::vec3 want(0);
+    if (I >= 0 && o.keep > 0) {
+      for (int k = 0; k < 4; ++k) {
+        if (!(o.lo.w[k] > 0)) continue;
+        glm::vec3 fk(0);
+        for (int j = 0; j < 4; ++j) fk += li.w[j] * m.F[std::size_t(li.b[j]) * n + std::size_t(o.lo.b[k])];
+        want += o.lo.w[k] * fk;
+      }
+      want *= std::fabs(wi.z) / std::sqrt(glm::dot(wi, wi)) / o.keep;
+    }
+    ASSERT_EQ(f, want) << t;
+    // The azimuth's error (1e-5 rad) moves the interpolation weights by about
+    // 1e-5 nphi / 2 pi: a share of the table's scale, not of f.
+    const glm::vec3 e = m.f_cos_estimate(o, wi);
+    for (int c = 0; c < 3; ++c) ASSERT_NEAR(e[c], f[c], 1e-4f * largest / std::max(o.keep, 1e-3f)) << t;
+    compared += f.x > 0;
+  }
+  EXPECT_GT(compared, 1000);
+
+  FarfieldModel lopsided = coloured_model();
+  lopsided.F[1] *= 1.5f;  // F[0][1] no longer F[1][0]
+  const std::string bytes = lopsided.serialize("key");
+  try {
+    FarfieldModel::deserialize(bytes, "key");
+    ADD_FAILURE() << "an asymmetric table was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("not symmetric"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(FarfieldModel::deserialize(coloured_model().serialize("key"), "key"));
 }
 
 }  // namespace plumage

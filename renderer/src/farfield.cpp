@@ -20,6 +20,7 @@
 #include "plumage/common/interrupt.h"
 #include "plumage/common/stats.h"
 #include "plumage/common/text.h"
+#include "fast_atan2.h"
 
 namespace plumage {
 namespace {
@@ -90,15 +91,20 @@ int FarfieldBins::antipode(int b) const {
   return (nu - 1 - iu) * nphi + (ip + nphi / 2) % nphi;
 }
 
-FarfieldBins::Lerp FarfieldBins::lerp(const glm::vec3& d, int* bin) const {
-  Lerp l{{0, 0, 0, 0}, {0, 0, 0, 0}};
+namespace {
+
+// FarfieldBins::lerp, its azimuth from std::atan2 or (kFast, for estimates) atan2_approx.
+template <bool kFast>
+FarfieldBins::Lerp lerp_in(const FarfieldBins& bins, const glm::vec3& d, int* bin) {
+  const int nu = bins.nu, nphi = bins.nphi;
+  FarfieldBins::Lerp l{{0, 0, 0, 0}, {0, 0, 0, 0}};
   if (bin) *bin = -1;
   const float len2 = glm::dot(d, d);
   if (!(len2 > 0) || !std::isfinite(len2)) return l;
   const float x = std::clamp(d.x / std::sqrt(len2), -1.0f, 1.0f);
   // The same arithmetic as bin(), so the two agree on every direction.
   const float ux = (x + 1) * 0.5f * float(nu);
-  const float up = (std::atan2(d.y, d.z) + kPiF) / (2 * kPiF) * float(nphi);
+  const float up = ((kFast ? atan2_approx(d.y, d.z) : std::atan2(d.y, d.z)) + kPiF) / (2 * kPiF) * float(nphi);
   if (bin) *bin = std::clamp(int(ux), 0, nu - 1) * nphi + std::clamp(int(up), 0, nphi - 1);
   const float fx = std::clamp(ux - 0.5f, 0.0f, float(nu - 1));
   const float fp = up - 0.5f;
@@ -113,6 +119,10 @@ FarfieldBins::Lerp FarfieldBins::lerp(const glm::vec3& d, int* bin) const {
   l.b[3] = i1 * nphi + j1, l.w[3] = tx * tp;
   return l;
 }
+
+}  // namespace
+
+FarfieldBins::Lerp FarfieldBins::lerp(const glm::vec3& d, int* bin) const { return lerp_in<false>(*this, d, bin); }
 
 float FarfieldModel::transmittance(const glm::vec3& local) const {
   const FarfieldBins::Lerp l = bins.lerp(local);
@@ -195,8 +205,10 @@ glm::vec3 FarfieldModel::f_cos(const Outgoing& o, const glm::vec3& wi, float* pd
   for (int k = 0; k < 4; ++k) {
     if (!(o.lo.w[k] > 0)) continue;
     const std::size_t O = std::size_t(o.lo.b[k]);
+    // F is symmetric (F[I][O] == F[O][I], by construction and checked when read
+    // from the cache): row O holds the four incident bins side by side.
     glm::vec3 fk(0);
-    for (int j = 0; j < 4; ++j) fk += li.w[j] * F[std::size_t(li.b[j]) * n + O];
+    for (int j = 0; j < 4; ++j) fk += li.w[j] * F[O * n + std::size_t(li.b[j])];
     f += o.lo.w[k] * fk;
     // The sampling density: rows chosen by their interpolation weight (black rows
     // left out), a bin of the row by its cdf, uniform within the bin.
@@ -204,6 +216,19 @@ glm::vec3 FarfieldModel::f_cos(const Outgoing& o, const glm::vec3& wi, float* pd
     if (pdf && c[n] > 0) p += o.lo.w[k] * (c[I + 1] - c[I]) / c[n];
   }
   if (pdf && o.row_mass > 0) *pdf = p / (o.row_mass * bins.solid_angle());
+  return f * (std::fabs(wi.z) / std::sqrt(glm::dot(wi, wi)) / o.keep);
+}
+
+glm::vec3 FarfieldModel::f_cos_estimate(const Outgoing& o, const glm::vec3& wi) const {
+  const FarfieldBins::Lerp li = lerp_in<true>(bins, wi, nullptr);
+  if (!(o.keep > 0)) return glm::vec3(0);
+  const std::size_t n = std::size_t(bins.count());
+  glm::vec3 f(0);
+  for (int k = 0; k < 4; ++k) {
+    if (!(o.lo.w[k] > 0)) continue;
+    const glm::vec3* row = &F[std::size_t(o.lo.b[k]) * n];
+    f += o.lo.w[k] * (li.w[0] * row[li.b[0]] + li.w[1] * row[li.b[1]] + li.w[2] * row[li.b[2]] + li.w[3] * row[li.b[3]]);
+  }
   return f * (std::fabs(wi.z) / std::sqrt(glm::dot(wi, wi)) / o.keep);
 }
 
@@ -290,6 +315,9 @@ FarfieldModel FarfieldModel::deserialize(const std::string& bytes, const std::st
       if (!(f.x >= 0 && f.y >= 0 && f.z >= 0) || !std::isfinite(f.x + f.y + f.z))
         throw Error("negative or non-finite BSDF value");
     }
+    for (std::size_t I = 0; I < n; ++I)
+      for (std::size_t O = 0; O < I; ++O)
+        if (m.F[I * n + O] != m.F[O * n + I]) throw Error("BSDF table not symmetric");
   }
   FarfieldReport& rep = m.report;
   for (double* v : {&rep.seconds, &rep.noise, &rep.asymmetry, &rep.albedo_min, &rep.albedo_max, &rep.T_min,

@@ -13,7 +13,7 @@ glm::vec3 FarfieldBsdf::f_cos(const glm::vec3& wi, float* pdf) const {
 
 void FarfieldBsdf::estimate_weights(const LightProxies& lp, float* w) const {
   for (std::size_t i = 0; i < lp.size(); ++i)
-    w[i] = luminance(lp.strength(i) * model_.f_cos(out_, frame_.to_local(lp.wi(i)), nullptr));
+    w[i] = luminance(lp.strength(i) * model_.f_cos_estimate(out_, frame_.to_local(lp.wi(i))));
 }
 
 std::optional<BsdfSample> FarfieldBsdf::sample(const glm::vec4& u) const {

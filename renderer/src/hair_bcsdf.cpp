@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "fast_atan2.h"
 #include "hair_terms.h"
 #include "medulla_terms.h"
 #include "plumage/common/error.h"
@@ -356,18 +357,6 @@ inline float exp_approx(float x) {
   const float p =
       1.0f + f * (0.693147181f + f * (0.240226507f + f * (0.0555041087f + f * (0.00961812911f + f * 0.00133335581f))));
   return p * std::bit_cast<float>((std::int32_t(n) + 127) << 23);
-}
-
-// atan2 within 1e-5 rad: octant reduction and a minimax polynomial for atan on
-// [0, 1] (Abramowitz & Stegun 4.4.49 form, |error| <= 1e-5); 0 at the origin.
-inline float atan2_approx(float y, float x) {
-  const float ax = std::fabs(x), ay = std::fabs(y);
-  const float mx = std::max(ax, ay), mn = std::min(ax, ay);
-  const float a = mn / std::max(mx, 1e-30f), s = a * a;
-  float r = ((((0.0208351f * s - 0.0851330f) * s + 0.1801410f) * s - 0.3302995f) * s + 0.9998660f) * a;
-  r = ay > ax ? 1.57079637f - r : r;
-  r = x < 0.0f ? 3.14159274f - r : r;
-  return y < 0.0f ? -r : r;
 }
 
 // Mp of d'Eon et al. 2011 eq. 7 in float: I0 by its polynomial below 3.75 and

@@ -117,6 +117,9 @@ class FarfieldModel {
   // wi toward the light), and in *pdf (when not null) the density sample() gives wi.
   glm::vec3 f_cos(const glm::vec3& wo, const glm::vec3& wi, float* pdf) const { return f_cos(outgoing(wo), wi, pdf); }
   glm::vec3 f_cos(const Outgoing& o, const glm::vec3& wi, float* pdf) const;
+  // f_cos's value within a few 1e-6 (the bins' azimuth from a float atan2), no pdf:
+  // next-event estimation's weighing of the lights, where it chooses, not weighs.
+  glm::vec3 f_cos_estimate(const Outgoing& o, const glm::vec3& wi) const;
   // Samples wi for wo: u.z picks one of the rows wo interpolates and then a bin of
   // that row in proportion to its energy, u.x and u.y a direction uniformly in the
   // bin. False when wo's rows are black. *weight = f_cos / pdf, pdf the mixture's.
