@@ -60,6 +60,24 @@ TEST(ColourCalibration, AProbeThrownOffEndsAtTheClosestProbe) {
   EXPECT_EQ(c.gain, c.probes[0].gain);
 }
 
+TEST(ColourCalibration, AProbeThrownOffIsFollowedByTheMidpointAndNoStepBeyond) {
+  // The photo at 1.06 x the first render; the response jumps up by 40 % past a gain
+  // of 1.035: the ratio step (1.06) lands beyond the jump, farther than the first
+  // probe; the third probe halves the step back (1.03) and is the closest; the
+  // probes not having converged steadily, no unprobed step beyond is taken.
+  const auto jump = [](const glm::vec3& g) { return g.x < 1.035f ? 0.5f * g : 0.7f * g; };
+  CalibrationSettings s;
+  s.probes = 3;
+  s.tolerance_de = 0.0;
+  const ColourCalibration c = calibrate_colour(jump, glm::vec3(0.53f), s);
+  ASSERT_EQ(c.probes.size(), 3u);
+  EXPECT_NEAR(c.probes[1].gain.x, 1.06f, 1e-5);
+  EXPECT_GT(c.probes[1].de2000, c.probes[0].de2000);
+  EXPECT_NEAR(c.probes[2].gain.x, 1.03f, 1e-5);
+  EXPECT_LT(c.probes[2].de2000, c.probes[0].de2000);
+  EXPECT_EQ(c.gain, c.probes[2].gain);
+}
+
 TEST(ColourCalibration, NoProbesIsNoCalibration) {
   Affine r{{0.1f, 0.1f, 0.1f}, {0.1f, 0.1f, 0.1f}};
   CalibrationSettings s;

@@ -62,14 +62,22 @@ ColourCalibration calibrate_colour(const std::function<glm::vec3(const glm::vec3
       return c;
     }
     gain = next_gain(c.probes, photo_mean, settings);
+    // A probe farther from the photo than an earlier one stepped across something
+    // (the inversion's clear -> medulla threshold): halve the step back toward the
+    // closest probe instead, as bisection would.
+    const auto best = std::min_element(c.probes.begin(), c.probes.end(),
+                                       [](const CalibrationProbe& a, const CalibrationProbe& b) { return a.de2000 < b.de2000; });
+    if (best != c.probes.end() - 1) gain = 0.5f * (best->gain + probe.gain);
   }
-  // Converging (the last probe the closest yet): one step beyond it. Else (a step
-  // across the inversion's clear -> medulla threshold can throw a probe off) the
-  // closest probe's gain.
+  // Converging (every probe closer than the one before): one step beyond the last.
+  // Else (a step across the inversion's clear -> medulla threshold threw a probe
+  // off, and a step beyond the last could cross it again) the closest probe's gain.
   if (!c.probes.empty()) {
+    bool converging = true;
+    for (std::size_t i = 1; i < c.probes.size(); ++i) converging = converging && c.probes[i].de2000 < c.probes[i - 1].de2000;
     const auto closest = std::min_element(c.probes.begin(), c.probes.end(),
                                           [](const CalibrationProbe& a, const CalibrationProbe& b) { return a.de2000 < b.de2000; });
-    if (closest != c.probes.end() - 1) gain = closest->gain;
+    if (!converging) gain = closest->gain;
   }
   c.gain = gain;
   return c;
