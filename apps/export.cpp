@@ -40,6 +40,13 @@ struct ExportArgs {
   ExportArgs() { view.spp = 64; }
 };
 
+// What the view leaves to the export: --env's constant environment and the film's
+// file name (OUT's stem, .exr).
+void add_environment_and_film(const ExportArgs& a, const std::filesystem::path& out, ExportScene& scene) {
+  if (!a.env.empty()) scene.environment = *parse_colour(a.env);  // environment(false) made sure it is one
+  scene.image_filename = out.stem().string() + ".exr";
+}
+
 // The scene `plumage render` would render with the same options.
 ExportScene scene_for(const ExportArgs& a, const Feather& feather, const std::filesystem::path& out) {
   ViewSpec view = a.view.view_spec(a.input, false);
@@ -48,8 +55,7 @@ ExportScene scene_for(const ExportArgs& a, const Feather& feather, const std::fi
   SceneOptions so = a.view.scene_options(view, rig);
   so.mode = parse_shading_mode(a.shading);
   ExportScene scene = export_scene(feather, rig, view, so);
-  if (!a.env.empty()) scene.environment = *parse_colour(a.env);  // environment(false) made sure it is one
-  scene.image_filename = out.stem().string() + ".exr";
+  add_environment_and_film(a, out, scene);
   return scene;
 }
 
@@ -71,8 +77,7 @@ int export_fscene(const ExportArgs& a, const std::filesystem::path& out, ExportF
   const BuiltWorld built(loaded, so, view);
   std::vector<ExportMaterial> materials;
   ExportScene scene = export_scene(built.world(), rig, view, parse_shading_mode(a.shading), materials);
-  if (!a.env.empty()) scene.environment = *parse_colour(a.env);  // environment(false) made sure it is one
-  scene.image_filename = out.stem().string() + ".exr";
+  add_environment_and_film(a, out, scene);
   ExportInstances instances;
   for (std::size_t i = 0; i < loaded.feathers.size(); ++i)
     instances.feathers.push_back({loaded.scene.feathers[i].name, &loaded.feathers[i], materials[i]});

@@ -175,10 +175,6 @@ void print_text(std::ostream& out, const std::string& file, const Feather& f, co
 }
 
 // A scene of many feathers: its placements, its distinct feathers and their barbs.
-const char* source_name(SceneFeatherSource s) {
-  return s == SceneFeatherSource::Fcurves ? "fcurves" : s == SceneFeatherSource::Layout ? "layout" : "preset";
-}
-
 void print_scene(std::ostream& out, const std::string& file, const LoadedScene& loaded, bool json) {
   const FeatherScene& sc = loaded.scene;
   std::vector<std::size_t> uses(sc.feathers.size(), 0);
@@ -199,7 +195,7 @@ void print_scene(std::ostream& out, const std::string& file, const LoadedScene& 
     for (std::size_t i = 0; i < sc.feathers.size(); ++i) {
       const SceneFeather& f = sc.feathers[i];
       j["feathers"].push_back({{"name", f.name},
-                               {"source", source_name(f.source)},
+                               {"source", to_string(f.source)},
                                {"from", f.source == SceneFeatherSource::Preset ? f.preset : f.path},
                                {"barbs", loaded.feathers[i].count(CurveKind::Barb)},
                                {"placements", uses[i]}});
@@ -212,10 +208,9 @@ void print_scene(std::ostream& out, const std::string& file, const LoadedScene& 
   for (std::size_t i = 0; i < sc.feathers.size(); ++i) {
     const SceneFeather& f = sc.feathers[i];
     out << "  " << f.name << ": "
-        << (f.source == SceneFeatherSource::Fcurves ? "fcurves " + f.path
-            : f.source == SceneFeatherSource::Layout
-                ? "layout " + f.path + " feather " + std::to_string(f.layout_feather) + " seed " + std::to_string(f.seed)
-                : "preset " + f.preset + " seed " + std::to_string(f.seed))
+        << to_string(f.source) << ' ' << (f.source == SceneFeatherSource::Preset ? f.preset : f.path)
+        << (f.source == SceneFeatherSource::Layout ? " feather " + std::to_string(f.layout_feather) : "")
+        << (f.source != SceneFeatherSource::Fcurves ? " seed " + std::to_string(f.seed) : "")
         << ", " << loaded.feathers[i].count(CurveKind::Barb) << " barbs, placed " << uses[i] << "x\n";
   }
 }

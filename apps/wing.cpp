@@ -30,22 +30,13 @@ struct WingArgs {
 };
 
 // A key feather's colour from its analysed albedo texture: the mean of the texels
-// inside the feather (alpha-weighted), times the texture's scale. The photo's card
-// is not inverted here (photo-to-feather's calibration, docs/analysis.md, does that).
+// inside the feather (albedo_mean), times the texture's scale. The photo's card is
+// not inverted here (photo-to-feather's calibration, docs/analysis.md, does that).
 std::optional<glm::vec3> texture_mean(const FeatherLayout& f, const std::filesystem::path& layout_dir) {
   if (f.albedo.file.empty()) return std::nullopt;
-  const Image tex = read_image(layout_dir / f.albedo.file);
-  glm::dvec3 sum(0);
-  double weight = 0;
-  for (int y = 0; y < tex.height; ++y)
-    for (int x = 0; x < tex.width; ++x) {
-      const float* t = tex.at(x, y);
-      const double w = tex.channels >= 4 ? t[3] : 1.0;
-      sum += w * glm::dvec3(t[0], t[1], t[2]);
-      weight += w;
-    }
-  if (!(weight > 0)) return std::nullopt;
-  return glm::vec3(sum / weight * f.albedo.scale);
+  const std::optional<glm::dvec3> mean = albedo_mean(read_image(layout_dir / f.albedo.file));
+  if (!mean) return std::nullopt;
+  return glm::vec3(*mean * f.albedo.scale);
 }
 
 int run_wing(const WingArgs& a) {

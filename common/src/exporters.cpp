@@ -6,7 +6,6 @@
 #include "plumage/common/exporters.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <initializer_list>
 #include <limits>
@@ -17,6 +16,7 @@
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/curve_format.h"
 #include "plumage/common/error.h"
+#include "plumage/common/scene_format.h"
 
 namespace plumage {
 
@@ -251,18 +251,11 @@ std::string format_pbrt(const Feather& f, const ExportScene& s, PbrtVersion v) {
   return out;
 }
 
-bool valid_instance_name(const std::string& name) {
-  if (name.empty() || name.size() > 64) return false;
-  for (char c : name)
-    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.')) return false;
-  return true;
-}
-
 void validate_instances(const ExportInstances& in) {
   if (in.feathers.empty() || in.placements.empty()) throw Error("a scene to export needs a feather and a placement");
   for (std::size_t i = 0; i < in.feathers.size(); ++i) {
     const ExportFeather& f = in.feathers[i];
-    if (!valid_instance_name(f.name))
+    if (!scene_name_problem(f.name).empty())
       throw Error("feather " + std::to_string(i) + ": name '" + one_line(f.name) +
                   "' is not 1-64 letters, digits, '_', '-' or '.'");
     for (std::size_t j = 0; j < i; ++j)

@@ -34,14 +34,6 @@ bool finite(const glm::mat4& m) {
   return true;
 }
 
-// A name: letters, digits, '_', '-' and '.', 1 to 64 of them.
-std::string name_problem(std::string_view name) {
-  if (name.empty() || name.size() > 64) return "a feather's name has 1 to 64 characters";
-  for (char c : name)
-    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
-      return "a feather's name holds only letters, digits, '_', '-' and '.'";
-  return {};
-}
 
 const char* const kPlaceForm =
     "place NAME [scale S] [mirror x|y|z] [rotate RX RY RZ] [translate X Y Z] [matrix M00 M01 M02 M03 M10 .. M23]";
@@ -68,7 +60,7 @@ void Reader::parse_feather(FeatherScene& s) {
     fail(end_column(), "feather: expected 'feather NAME fcurves \"FILE\"', 'feather NAME preset PRESET seed N' or "
                        "'feather NAME layout \"FILE\" feather ID seed N'");
   const Token& name = tok_[1];
-  if (const std::string bad = name_problem(name.text); !bad.empty()) fail(name, "feather '" + printable(name.text) + "': " + bad);
+  if (const std::string bad = scene_name_problem(name.text); !bad.empty()) fail(name, "feather '" + printable(name.text) + "': " + bad);
   if (const auto it = names_.find(name.text); it != names_.end())
     fail(name, "feather '" + std::string(name.text) + "' defined twice (first on line " +
                    std::to_string(s.feathers[it->second].line) + ")");
@@ -87,7 +79,7 @@ void Reader::parse_feather(FeatherScene& s) {
     expect_count(6, "feather NAME preset PRESET seed N");
     f.source = SceneFeatherSource::Preset;
     f.preset = std::string(tok_[3].text);
-    if (const std::string bad = name_problem(f.preset); !bad.empty()) fail(tok_[3], "feather preset: not a preset name");
+    if (const std::string bad = scene_name_problem(f.preset); !bad.empty()) fail(tok_[3], "feather preset: not a preset name");
     if (tok_[4].text != "seed") fail(tok_[4], "feather preset: expected 'seed N' after the preset's name");
     f.seed = unsigned_int(tok_[5], "feather seed");
   } else if (kind.text == "layout") {
@@ -247,6 +239,26 @@ std::optional<Similarity> similarity_of(const glm::mat4& m) {
   return out;
 }
 
+std::string scene_name_problem(std::string_view name) {
+  if (name.empty() || name.size() > 64) return "a feather's name has 1 to 64 characters";
+  for (char c : name)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
+      return "a feather's name holds only letters, digits, '_', '-' and '.'";
+  return {};
+}
+
+const char* to_string(SceneFeatherSource source) {
+  switch (source) {
+    case SceneFeatherSource::Fcurves:
+      return "fcurves";
+    case SceneFeatherSource::Preset:
+      return "preset";
+    case SceneFeatherSource::Layout:
+      return "layout";
+  }
+  return "?";
+}
+
 void validate_scene(const FeatherScene& s) {
   auto fail = [](const std::string& what) { throw Error("invalid scene: " + what); };
   if (s.feathers.size() > kMaxSceneFeathers) fail("more than " + std::to_string(kMaxSceneFeathers) + " feathers");
@@ -254,13 +266,13 @@ void validate_scene(const FeatherScene& s) {
   if (s.placements.size() > kMaxScenePlacements) fail("more than " + std::to_string(kMaxScenePlacements) + " placements");
   for (std::size_t i = 0; i < s.feathers.size(); ++i) {
     const SceneFeather& f = s.feathers[i];
-    if (const std::string bad = name_problem(f.name); !bad.empty()) fail("feather " + std::to_string(i) + ": " + bad);
+    if (const std::string bad = scene_name_problem(f.name); !bad.empty()) fail("feather " + std::to_string(i) + ": " + bad);
     for (std::size_t j = 0; j < i; ++j)
       if (s.feathers[j].name == f.name) fail("feather '" + f.name + "' defined twice");
     if (f.source != SceneFeatherSource::Preset &&
         (f.path.empty() || !printable_string(f.path) || invalid_utf8_at(f.path) != std::string_view::npos))
       fail("feather '" + f.name + "': its file name is empty, not UTF-8 or holds a control character");
-    if (f.source == SceneFeatherSource::Preset && !name_problem(f.preset).empty())
+    if (f.source == SceneFeatherSource::Preset && !scene_name_problem(f.preset).empty())
       fail("feather '" + f.name + "': not a preset name");
     if (f.source == SceneFeatherSource::Layout && f.layout_feather > kMaxLayoutFeatherId)
       fail("feather '" + f.name + "': the layout feather id is larger than any layout holds");
@@ -285,19 +297,17 @@ std::string format_fscene(const FeatherScene& s) {
   validate_scene(s);
   std::string out = "fscene " + std::to_string(kFsceneVersion) + "\nunits mm\n";
   for (const SceneFeather& f : s.feathers) {
-    out += "feather " + f.name;
-    if (f.source == SceneFeatherSource::Fcurves) {
-      out += " fcurves ";
+    out += "feather " + f.name + " " + to_string(f.source) + " ";
+    if (f.source == SceneFeatherSource::Preset)
+      out += f.preset;
+    else
       append_quoted(out, f.path);
-    } else if (f.source == SceneFeatherSource::Layout) {
-      out += " layout ";
-      append_quoted(out, f.path);
+    if (f.source == SceneFeatherSource::Layout) {
       out += " feather ";
       append_int(out, f.layout_feather);
+    }
+    if (f.source != SceneFeatherSource::Fcurves) {
       out += " seed ";
-      append_int(out, f.seed);
-    } else {
-      out += " preset " + f.preset + " seed ";
       append_int(out, f.seed);
     }
     out += '\n';

@@ -638,8 +638,7 @@ Feather layout_to_feather(const FeatherLayout& f, std::uint64_t seed, const std:
   return feather;
 }
 
-Image albedo_for_render(const Image& a, glm::vec3* mean) {
-  if (a.empty()) throw Error("the albedo texture is empty");
+std::optional<glm::dvec3> albedo_mean(const Image& a) {
   glm::dvec3 sum(0.0);
   double weight = 0;
   for (int y = 0; y < a.height; ++y)
@@ -648,7 +647,14 @@ Image albedo_for_render(const Image& a, glm::vec3* mean) {
       sum += alpha * glm::dvec3(a.rgb(x, y));
       weight += alpha;
     }
-  const glm::vec3 m = weight > 0 ? glm::vec3(sum / weight) : glm::vec3(0.5f);
+  if (!(weight > 0)) return std::nullopt;
+  return sum / weight;
+}
+
+Image albedo_for_render(const Image& a, glm::vec3* mean) {
+  if (a.empty()) throw Error("the albedo texture is empty");
+  const std::optional<glm::dvec3> under_mask = albedo_mean(a);
+  const glm::vec3 m = under_mask ? glm::vec3(*under_mask) : glm::vec3(0.5f);
   Image out(a.width, a.height, 3);
   for (int y = 0; y < a.height; ++y)
     for (int x = 0; x < a.width; ++x) {

@@ -84,10 +84,7 @@ float Camera::pixel_footprint(const Bounds3f& box) const {
   if (proj_ == Projection::Orthographic) return per_pixel;
   // Depth along the view direction is linear, so over a box it is least at a corner.
   float depth = std::numeric_limits<float>::infinity();
-  for (int c = 0; c < 8; ++c) {
-    const glm::vec3 corner((c & 1) ? box.hi.x : box.lo.x, (c & 2) ? box.hi.y : box.lo.y, (c & 4) ? box.hi.z : box.lo.z);
-    depth = std::min(depth, glm::dot(corner - eye_, fwd_));
-  }
+  for (int c = 0; c < 8; ++c) depth = std::min(depth, glm::dot(box.corner(c) - eye_, fwd_));
   return std::max(depth, 0.0f) * per_pixel;
 }
 

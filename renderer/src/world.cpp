@@ -21,10 +21,7 @@ namespace {
 // The box around box b carried by the affine map m (its eight corners carried).
 Bounds3f carried(const glm::mat4& m, const Bounds3f& b) {
   Bounds3f out;
-  for (int c = 0; c < 8; ++c) {
-    const glm::vec3 corner(c & 1 ? b.hi.x : b.lo.x, c & 2 ? b.hi.y : b.lo.y, c & 4 ? b.hi.z : b.lo.z);
-    out.extend(glm::vec3(m * glm::vec4(corner, 1.0f)));
-  }
+  for (int c = 0; c < 8; ++c) out.extend(glm::vec3(m * glm::vec4(b.corner(c), 1.0f)));
   return out;
 }
 }  // namespace
@@ -126,7 +123,7 @@ World::World(std::vector<WorldFeather> feathers, std::vector<WorldPlacement> pla
     placed_.push_back(p);
 
     const Scene& s = *feathers_[p.feather].scene;
-    bounds_.extend(carried(p.to_world, s.feather_bounds()));
+    bounds_.extend(placement_bounds(std::uint32_t(i)));
     max_back = std::max(max_back, p.scale * 2.05f * s.max_barb_radius());
     max_radius = std::max(max_radius, p.scale * s.max_radius());
   }

@@ -15,6 +15,12 @@ constexpr float kMaxStep = 4.0f;  // per probe, a channel's gain moves by at mos
 // that never reaches the card) is up to 80 % of the render gives 0.2; a response
 // proportional to the gain gives 1.
 constexpr float kMinSecant = 0.2f, kMaxSecant = 2.0f;
+
+// The probe whose render came closest to the photo (the first of equals).
+const CalibrationProbe& closest(const std::vector<CalibrationProbe>& probes) {
+  return *std::min_element(probes.begin(), probes.end(),
+                           [](const CalibrationProbe& a, const CalibrationProbe& b) { return a.de2000 < b.de2000; });
+}
 }  // namespace
 
 glm::vec3 next_gain(const std::vector<CalibrationProbe>& probes, const glm::vec3& photo_mean,
@@ -61,13 +67,11 @@ ColourCalibration calibrate_colour(const std::function<glm::vec3(const glm::vec3
       c.gain = gain;
       return c;
     }
-    gain = next_gain(c.probes, photo_mean, settings);
     // A probe farther from the photo than an earlier one stepped across something
     // (the inversion's clear -> medulla threshold): halve the step back toward the
-    // closest probe instead, as bisection would.
-    const auto best = std::min_element(c.probes.begin(), c.probes.end(),
-                                       [](const CalibrationProbe& a, const CalibrationProbe& b) { return a.de2000 < b.de2000; });
-    if (best != c.probes.end() - 1) gain = 0.5f * (best->gain + probe.gain);
+    // closest probe, as bisection would; else the next step of the search.
+    const CalibrationProbe& best = closest(c.probes);
+    gain = &best != &c.probes.back() ? 0.5f * (best.gain + probe.gain) : next_gain(c.probes, photo_mean, settings);
   }
   // Converging (every probe closer than the one before): one step beyond the last.
   // Else (a step across the inversion's clear -> medulla threshold threw a probe
@@ -75,9 +79,7 @@ ColourCalibration calibrate_colour(const std::function<glm::vec3(const glm::vec3
   if (!c.probes.empty()) {
     bool converging = true;
     for (std::size_t i = 1; i < c.probes.size(); ++i) converging = converging && c.probes[i].de2000 < c.probes[i - 1].de2000;
-    const auto closest = std::min_element(c.probes.begin(), c.probes.end(),
-                                          [](const CalibrationProbe& a, const CalibrationProbe& b) { return a.de2000 < b.de2000; });
-    if (!converging) gain = closest->gain;
+    if (!converging) gain = closest(c.probes).gain;
   }
   c.gain = gain;
   return c;

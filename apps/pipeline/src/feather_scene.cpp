@@ -21,28 +21,34 @@ std::size_t LoadedScene::placed_barbs() const {
 LoadedScene load_scene(const std::filesystem::path& path) {
   LoadedScene out;
   out.scene = read_fscene(path);
-  const std::filesystem::path folder = path.parent_path().empty() ? "." : path.parent_path();
+  const auto folder_of = [](const std::filesystem::path& file) {
+    return file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path();
+  };
+  const std::filesystem::path folder = folder_of(path);
+  // A feather's file: relative paths start at the scene file's folder.
+  const auto resolved = [&](const std::string& p) {
+    return std::filesystem::path(p).is_absolute() ? std::filesystem::path(p) : folder / p;
+  };
   for (const SceneFeather& f : out.scene.feathers) {
     const Location where{path.string(), f.line, 1};
     try {
       if (f.source == SceneFeatherSource::Fcurves) {
-        const std::filesystem::path file = std::filesystem::path(f.path).is_absolute() ? std::filesystem::path(f.path) : folder / f.path;
+        const std::filesystem::path file = resolved(f.path);
         out.feathers.push_back(read_fcurves(file));
-        out.folders.push_back(file.parent_path().empty() ? "." : file.parent_path());
+        out.folders.push_back(folder_of(file));
       } else if (f.source == SceneFeatherSource::Layout) {
         // The curves `plumage generate --layout FILE --feather ID --seed N` builds,
         // coloured by the mean of the analysed albedo under the photo's mask (as
         // `plumage wing --layout` colours its keys): the texture generate would
         // write beside a curve file is not written by a render.
-        const std::filesystem::path file = std::filesystem::path(f.path).is_absolute() ? std::filesystem::path(f.path) : folder / f.path;
-        const std::filesystem::path dir = file.parent_path().empty() ? "." : file.parent_path();
+        const std::filesystem::path file = resolved(f.path);
+        const std::filesystem::path dir = folder_of(file);
         const Layout layout = read_layout(file);
         const FeatherLayout& chosen = pick_feather(layout, int(f.layout_feather), file.string());
         Feather feather = layout_to_feather(chosen, f.seed, dir, dir, file.string());
         if (!feather.albedo.texture.empty()) {
-          glm::vec3 mean;
-          albedo_for_render(read_image(dir / chosen.albedo.file), &mean);
-          feather.albedo.color = mean * feather.albedo.scale;
+          const glm::dvec3 mean = albedo_mean(read_image(dir / chosen.albedo.file)).value_or(glm::dvec3(0.5));
+          feather.albedo.color = glm::vec3(mean * double(feather.albedo.scale));
           feather.albedo.texture.clear();
           feather.albedo.scale = 1;
         }
@@ -87,11 +93,13 @@ BuiltWorld::BuiltWorld(const LoadedScene& loaded, const SceneOptions& options, c
 
   // The camera render_view frames the world with; each placement's level from it.
   const Camera camera(view.camera, view.width, view.height, world_->bounds());
+  std::vector<float> period(n);  // each feather's once, however often it is placed
+  for (std::size_t i = 0; i < n; ++i) period[i] = barbule_period(loaded.feathers[i]);
   std::vector<bool> near(n, false), far(n, false);
   for (std::uint32_t i = 0; i < placements.size(); ++i) {
     const std::uint32_t f = placements[i].feather;
-    placement_modes_[i] =
-        shading_by_footprint(loaded.feathers[f], world_->placement_scale(i), world_->placement_bounds(i), camera);
+    placement_modes_[i] = shading_for_footprint(camera.pixel_footprint(world_->placement_bounds(i)),
+                                                world_->placement_scale(i) * period[f]);
     (placement_modes_[i] == ShadingMode::Farfield ? far : near)[f] = true;
   }
   // The world over the scenes the placements use: each feather's substructure

@@ -26,6 +26,8 @@ struct BasicBounds3 {
   bool empty() const { return lo.x > hi.x; }
   Vec centre() const { return T(0.5) * (lo + hi); }
   Vec size() const { return hi - lo; }
+  // Corner c of 8: bit 0 picks hi.x over lo.x, bit 1 hi.y, bit 2 hi.z.
+  Vec corner(int c) const { return {c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z}; }
 };
 
 using Bounds3 = BasicBounds3<double>;

@@ -75,6 +75,12 @@ struct Similarity {
 // row is not (0, 0, 0, 1).
 std::optional<Similarity> similarity_of(const glm::mat4& m);
 
+// What is wrong with `name` as a feather's name (1 to 64 letters, digits, '_', '-'
+// and '.'), or "" when nothing is; the exporters name their objects by it too.
+std::string scene_name_problem(std::string_view name);
+// The word a feather's source has in the file: "fcurves", "preset" or "layout".
+const char* to_string(SceneFeatherSource source);
+
 // Throws plumage::Error for a scene the reader would refuse (no placement, an
 // unknown feather index, a bad name, a transform that is not a similarity, ...).
 void validate_scene(const FeatherScene& scene);

@@ -123,6 +123,12 @@ Feather layout_to_feather(const FeatherLayout& layout, std::uint64_t seed, const
 // those get the mean colour under the mask (RGB result). `mean` receives it.
 Image albedo_for_render(const Image& analysis_albedo, glm::vec3* mean = nullptr);
 
+// The mean colour of an analysis albedo under the photo's mask: texels weighted by
+// their alpha (RGBA; every texel alike without alpha), in double; nothing when no
+// texel is inside the mask. albedo_for_render fills with it; `plumage wing --layout`
+// and a .fscene's layout feathers colour a feather by it (times the texture's scale).
+std::optional<glm::dvec3> albedo_mean(const Image& analysis_albedo);
+
 // layout_to_feather, then the filled albedo written as `texture_path` (atomically,
 // or staged in `outputs` with the command's other files when given) and
 // referenced by the feather relative to `fcurves_dir`, its mean as the feather's
