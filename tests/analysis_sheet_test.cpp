@@ -16,6 +16,7 @@
 #include "plumage/common/image.h"
 #include "plumage/analysis/analyze.h"
 #include "plumage/layout/layout.h"
+#include "row_found.h"
 #include "synthetic_feather.h"
 
 using namespace plumage;
@@ -216,7 +217,8 @@ TEST(AnalysisSheet, FeathersSideBySideWithOverlappingVanesAreReportedNotMerged) 
   // Two feathers laid side by side, their vanes overlapping along their whole
   // length (the blue-jay sheet's second and third tail feathers): one blob whose
   // core is one piece, so it looks like one wide feather, but two quills leave
-  // its base. It is reported, never analysed as one invented feather.
+  // its base. It is cut into one feather per quill, or reported, never analysed
+  // as one invented feather.
   SyntheticFeather a, b;
   a.calamus = {330, 660};
   b.calamus = {430, 655};
@@ -227,8 +229,12 @@ TEST(AnalysisSheet, FeathersSideBySideWithOverlappingVanesAreReportedNotMerged) 
   a.w_left = a.w_right = b.w_left = b.w_right = 60;
   b.seed = 3;
   write_image(dir / "pair.png", on_one_card(a, b));
-  const std::string why = refusal(dir / "pair.png");
-  EXPECT_NE(why.find("2 quills at its base"), std::string::npos) << why;
+  const synthetic::RowOutcome got = synthetic::analyse_row(dir / "pair.png", {a, b});
+  if (got.reported) {
+    EXPECT_NE(got.message.find("quills"), std::string::npos) << got.message;
+  } else {
+    EXPECT_EQ(got.found, 2);
+  }
   // Each of them alone is one feather.
   for (const SyntheticFeather* t : {&a, &b}) {
     write_image(dir / "one.png", t->draw());
@@ -243,8 +249,8 @@ TEST(AnalysisSheet, ARowOfFeathersOnAStringIsReportedNotMerged) {
   const fs::path dir = sheet_dir("row");
   // Seven small feathers mounted side by side on a string, each vane over the
   // next (the robin sheet's rows of coverts): one blob, longest along the string,
-  // with a tip for each feather along one side. It is reported, never analysed as
-  // one long invented feather.
+  // with a tip for each feather along one side. Its quills cut it into one feather
+  // each, or it is reported, never analysed as one long invented feather.
   std::vector<SyntheticFeather> row(7);
   for (int i = 0; i < 7; ++i) {
     SyntheticFeather& f = row[std::size_t(i)];
@@ -255,8 +261,12 @@ TEST(AnalysisSheet, ARowOfFeathersOnAStringIsReportedNotMerged) {
     f.seed = unsigned(10 + i);
   }
   write_image(dir / "row.png", on_one_card(row));
-  const std::string why = refusal(dir / "row.png");
-  EXPECT_NE(why.find("tips along one side"), std::string::npos) << why;
+  const synthetic::RowOutcome got = synthetic::analyse_row(dir / "row.png", row);
+  if (got.reported) {
+    EXPECT_NE(got.message.find("tips along one side"), std::string::npos) << got.message;
+  } else {
+    EXPECT_EQ(got.found, 7);
+  }
   // One of them alone is one feather.
   write_image(dir / "one.png", row[3].draw());
   const PhotoAnalysis A = analyze_photo(dir / "one.png", AnalyzeOptions{});
@@ -290,11 +300,17 @@ std::vector<SyntheticFeather> packed_row(int n, double gap, double length, doubl
 TEST(AnalysisSheet, ARowOfFeathersWhoseTipsMergeIsReportedByItsLines) {
   const fs::path dir = sheet_dir("packed");
   // Sixteen feathers 15 px apart, 48 px wide: no tip stands out, and the rule
-  // of tips says nothing; the lines, across the blob's length, do.
+  // of tips says nothing; the lines, across the blob's length, do, and so do its
+  // quills where they can all be seen.
   const std::vector<SyntheticFeather> row = packed_row(16, 15, 160, 0, -10, {450, 350}, 80);
   write_image(dir / "row.png", on_one_card(row));
-  const std::string why = refusal(dir / "row.png");
-  EXPECT_NE(why.find("its lines run across it"), std::string::npos) << why;
+  const synthetic::RowOutcome got = synthetic::analyse_row(dir / "row.png", row);
+  if (got.reported) {
+    EXPECT_TRUE(got.message.find("its lines run across it") != std::string::npos ||
+                got.message.find("quills side by side") != std::string::npos) << got.message;
+  } else {
+    EXPECT_EQ(got.found, 16);
+  }
   // One of them alone is one feather.
   write_image(dir / "one.png", row[4].draw());
   EXPECT_EQ(refusal(dir / "one.png"), "analysed as 1 feather(s)");
@@ -302,8 +318,9 @@ TEST(AnalysisSheet, ARowOfFeathersWhoseTipsMergeIsReportedByItsLines) {
 }
 
 // Rows of 10-16 feathers 120-180 px long, packed along strings 1.5-2.5 times
-// as long in any direction, their feathers tilted up to 12 degrees, are reported as rows
-// (by their tips or their lines), never analysed as one feather; single
+// as long in any direction, their feathers tilted up to 12 degrees, are cut into
+// one feather per quill or reported as rows (by their tips, their lines or their
+// quills), never analysed as one feather; single
 // feathers are not (FansAreReportedAndSingleFeathersAreNot draws them).
 TEST(AnalysisSheet, PackedRowsInAnyDirectionAreReported) {
   const fs::path dir = sheet_dir("rows");
@@ -314,12 +331,17 @@ TEST(AnalysisSheet, PackedRowsInAnyDirectionAreReported) {
     // Longer along the string than across it: 1.5-2.5 times the feathers' length.
     const double length = uniform(120, 180), gap = uniform(1.5, 2.5) * length / n,
                  row_deg = uniform(-180, 180), tilt = uniform(-12, 12);
-    write_image(dir / "row.png", on_one_card(packed_row(n, gap, length, row_deg, tilt, {450, 350},
-                                                        unsigned(100 + 20 * k))));
-    const std::string why = refusal(dir / "row.png");
-    EXPECT_NE(why.find("is a row of feathers side by side"), std::string::npos)
-        << n << " feathers " << length << " px long " << gap << " px apart along " << row_deg << " deg, tilted "
-        << tilt << ": " << why;
+    const auto row = packed_row(n, gap, length, row_deg, tilt, {450, 350}, unsigned(100 + 20 * k));
+    write_image(dir / "row.png", on_one_card(row));
+    SCOPED_TRACE(std::to_string(n) + " feathers " + std::to_string(length) + " px long " + std::to_string(gap) +
+                 " px apart along " + std::to_string(row_deg) + " deg, tilted " + std::to_string(tilt));
+    const synthetic::RowOutcome got = synthetic::analyse_row(dir / "row.png", row);
+    if (got.reported) {
+      EXPECT_TRUE(got.message.find("is a row of feathers side by side") != std::string::npos ||
+                  got.message.find("quills side by side") != std::string::npos) << got.message;
+    } else {
+      EXPECT_EQ(got.found, n);
+    }
   }
   fs::remove_all(dir);
 }

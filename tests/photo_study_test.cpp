@@ -83,7 +83,7 @@ TEST(PhotoStudy, EveryPhotoIsAnalysed) {
 // region, except the named groups (k feathers making r regions, found as
 // "missed", "skipped: touching", "skipped: border", "analysed as one", ...).
 struct Expected {
-  int regions = 0, touching = 0, border = 0;
+  int regions = 0, touching = 0, border = 0, split_rows = 0, from_rows = 0;
 };
 Expected expected(const nlohmann::json& c) {
   Expected e;
@@ -94,6 +94,7 @@ Expected expected(const nlohmann::json& c) {
     e.regions += r - k;
     if (found == "skipped: touching") e.touching += r;
     if (found == "skipped: border") e.border += r;
+    if (found == "split by quills") e.split_rows += 1, e.from_rows += r;
   }
   return e;
 }
@@ -109,11 +110,16 @@ TEST(PhotoStudy, CountsAreExactOnTheCountedSheets) {
     if (!fs::exists(fs::path(PLUMAGE_SHARED_DIR) / "photos" / name)) GTEST_SKIP() << "shared photos absent";
     const Expected e = expected(c);
     const PhotoAnalysis A = analyse(name);
-    int touching = 0, border = 0;
-    for (const auto& s : A.layout.skipped) (s.reason == "touches_border" ? border : touching) += 1;
-    EXPECT_EQ(int(A.layout.feathers.size() + A.layout.skipped.size()), e.regions) << name;
+    int touching = 0, border = 0, split = 0, from_rows = 0;
+    for (const auto& s : A.layout.skipped)
+      (s.reason == "touches_border" ? border : s.reason == "split_row" ? split : touching) += 1;
+    for (const auto& f : A.layout.feathers) from_rows += f.row.feathers > 0;
+    // A split row is its feathers, not a region of its own.
+    EXPECT_EQ(int(A.layout.feathers.size() + A.layout.skipped.size()) - split, e.regions) << name;
     EXPECT_EQ(touching, e.touching) << name;
     EXPECT_EQ(border, e.border) << name;
+    EXPECT_EQ(split, e.split_rows) << name;
+    EXPECT_EQ(from_rows, e.from_rows) << name;
     ++sheets;
   }
   EXPECT_EQ(sheets, 4);  // spoonbill, pink, peregrine, blue jay

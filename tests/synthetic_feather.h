@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 #include <optional>
 #include <random>
+#include <vector>
 
 #include "plumage/common/constants.h"
 #include "plumage/common/image.h"
@@ -97,30 +98,42 @@ struct SyntheticFeather {
     return c != 0 && c != 4;
   }
 
-  // sRGB-valued picture, 3x3 supersampled, blurred, with Gaussian noise.
-  Image draw(int channels = 3) const {
-    const glm::vec3 bg = dark_background ? glm::vec3(0.04f) : glm::vec3(0.96f);
+  glm::vec3 background() const { return dark_background ? glm::vec3(0.04f) : glm::vec3(0.96f); }
+  // The colour at an image point (sRGB), and the class classify() gives it.
+  glm::vec3 colour_at(glm::dvec2 p, int& cls) const {
+    const glm::vec3 bg = background();
     const glm::vec3 vane =
         dark_background ? glm::vec3(0.85f, 0.72f, 0.66f) : glm::vec3(0.80f, 0.50f, 0.48f);
     const glm::vec3 rachis = glm::mix(vane, glm::vec3(0.55f, 0.18f, 0.10f), rachis_contrast);
+    double shade;
+    cls = classify(p, shade);
+    const double a = along(p.x, p.y);
+    return cls == 0   ? bg
+           : cls == 2 ? (calamus_colour && a < vane_start() ? *calamus_colour : rachis)
+           : cls == 5 ? rachis
+           : cls == 3 ? glm::mix(vane, glm::vec3(1.f), 0.6f)
+           : cls == 4 ? bg * 0.8f
+                      : vane * float(shade);
+  }
+
+  // sRGB-valued picture, 3x3 supersampled, blurred, with Gaussian noise.
+  Image draw(int channels = 3) const {
     Image img(width, height, 3);
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x) {
         glm::vec3 acc(0.f);
+        int cls;
         for (int sy = 0; sy < 3; ++sy)
-          for (int sx = 0; sx < 3; ++sx) {
-            double shade;
-            const int c = classify({x + (sx + 0.5) / 3.0, y + (sy + 0.5) / 3.0}, shade);
-            const double a = along(x + (sx + 0.5) / 3.0, y + (sy + 0.5) / 3.0);
-            acc += c == 0   ? bg
-                   : c == 2 ? (calamus_colour && a < vane_start() ? *calamus_colour : rachis)
-                   : c == 5 ? rachis
-                   : c == 3 ? glm::mix(vane, glm::vec3(1.f), 0.6f)
-                   : c == 4 ? bg * 0.8f
-                            : vane * float(shade);
-          }
+          for (int sx = 0; sx < 3; ++sx) acc += colour_at({x + (sx + 0.5) / 3.0, y + (sy + 0.5) / 3.0}, cls);
         img.set_rgb(x, y, acc / 9.0f);
       }
+    return finish(img, channels, [&](glm::dvec2 p) { return inside(p); });
+  }
+
+  // The picture `img` (sRGB, 3 channels) blurred, with this feather's noise, as a
+  // linear image of `channels` (4: alpha is `inside_at`).
+  template <class Inside>
+  Image finish(const Image& img, int channels, Inside inside_at) const {
     Image blurred = img;
     for (int y = 1; y + 1 < height; ++y)
       for (int x = 1; x + 1 < width; ++x) {
@@ -143,10 +156,38 @@ struct SyntheticFeather {
           continue;
         }
         for (int k = 0; k < 3; ++k) p[k] = srgb_to_linear(std::clamp(c[k] + n(rng), 0.f, 1.f));
-        if (channels == 4) p[3] = inside({x + 0.5, y + 0.5}) ? 1.f : 0.f;
+        if (channels == 4) p[3] = inside_at({x + 0.5, y + 0.5}) ? 1.f : 0.f;
       }
     return out;
   }
 };
+
+// Feathers lying over each other, later ones on top (a shingled row on a sheet):
+// each point takes the colour of the topmost feather there (cast shadows are
+// not drawn over other feathers). The picture's size, card, noise and seed are
+// the first feather's.
+inline Image draw_overlapping(const std::vector<SyntheticFeather>& layers) {
+  const SyntheticFeather& base = layers.front();
+  Image img(base.width, base.height, 3);
+  auto topmost = [&](glm::dvec2 p, glm::vec3& colour) {
+    for (std::size_t k = layers.size(); k-- > 0;) {
+      int cls;
+      const glm::vec3 c = layers[k].colour_at(p, cls);
+      if (cls != 0 && cls != 4) return colour = c, true;
+    }
+    return colour = base.background(), false;
+  };
+  for (int y = 0; y < base.height; ++y)
+    for (int x = 0; x < base.width; ++x) {
+      glm::vec3 acc(0.f), c;
+      for (int sy = 0; sy < 3; ++sy)
+        for (int sx = 0; sx < 3; ++sx) {
+          topmost({x + (sx + 0.5) / 3.0, y + (sy + 0.5) / 3.0}, c);
+          acc += c;
+        }
+      img.set_rgb(x, y, acc / 9.0f);
+    }
+  return base.finish(img, 3, [&](glm::dvec2 p) { glm::vec3 c; return topmost(p, c); });
+}
 
 }  // namespace plumage::synthetic

@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 #include <sstream>
+#include <tuple>
 
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/error.h"
@@ -18,6 +19,7 @@
 #include "grid_scale.h"
 #include "overlay.h"
 #include "photo.h"
+#include "quills.h"
 #include "segmentation.h"
 #include "shaft.h"
 #include "vane.h"
@@ -136,7 +138,30 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
       << "/255 over a feather-sized area); photograph the feather on plain, contrasting paper";
     throw Error(where, m.str());
   }
-  const int count = int(seg.feathers.size());
+  // Quills first: a region whose quills stand in a row is a shingled row, cut into
+  // one feather per quill; its pieces take the ids after the regions', in the
+  // order of their quills along the row (docs/analysis.md, "Shingled rows").
+  const int regions = int(seg.feathers.size());
+  std::vector<Component> pieces;
+  std::vector<int> piece_region;
+  std::vector<std::pair<int, int>> split_ids(std::size_t(regions), {0, 0});  // first and last piece id
+  std::vector<std::string> row_not_followed(static_cast<std::size_t>(regions));
+  std::vector<int> row_quills(std::size_t(regions), 0);
+  for (int k = 1; k <= regions; ++k) {
+    const Component& comp = seg.feathers[std::size_t(k - 1)];
+    if (comp.touches_border && !opt.allow_border) continue;
+    const std::vector<Quill> row = quills_of_a_row(find_quills(comp));
+    if (row.size() < 2) continue;
+    row_quills[std::size_t(k - 1)] = int(row.size());
+    RowSplit split = split_by_quills(comp, row, photo.bgr.size());
+    if (split.pieces.empty()) {
+      row_not_followed[std::size_t(k - 1)] = split.why;
+      continue;
+    }
+    split_ids[std::size_t(k - 1)] = {regions + int(pieces.size()) + 1, regions + int(pieces.size() + split.pieces.size())};
+    for (Component& c : split.pieces) pieces.push_back(std::move(c)), piece_region.push_back(k);
+  }
+  const int count = regions + int(pieces.size());
   if (opt.feather && (*opt.feather < 1 || *opt.feather > count))
     throw Error(where, "--feather " + std::to_string(*opt.feather) + ": the photo has " +
                            std::to_string(count) + " feather(s); pick 1.." + std::to_string(count));
@@ -209,8 +234,31 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
          "lay them apart on the card and photograph them again, or pick another with --feather");
   };
   for (int k = 1; k <= count; ++k) {
-    if (opt.feather && *opt.feather != k) continue;
-    const Component& comp = seg.feathers[k - 1];
+    if (opt.feather && *opt.feather != k && !(k <= regions && split_ids[std::size_t(k - 1)].first > 0)) continue;
+    const Component& comp = k <= regions ? seg.feathers[std::size_t(k - 1)] : pieces[std::size_t(k - regions - 1)];
+    if (k <= regions && split_ids[std::size_t(k - 1)].first > 0) {
+      // Not analysed as one: its feathers are, under their own ids.
+      const auto [first, last] = split_ids[std::size_t(k - 1)];
+      if (opt.feather && *opt.feather == k)
+        throw Error(where, "--feather " + std::to_string(k) + " is a shingled row, analysed as feathers " +
+                               std::to_string(first) + "-" + std::to_string(last) + " (one per quill); pick one of them");
+      if (opt.feather) continue;
+      SkippedRegion s;
+      s.id = k;
+      s.bbox_px = {int(std::floor(comp.bbox.x / ds)), int(std::floor(comp.bbox.y / ds)),
+                   int(std::ceil(comp.bbox.width / ds)), int(std::ceil(comp.bbox.height / ds))};
+      s.reason = "split_row";
+      s.message = "a shingled row of " + std::to_string(last - first + 1) + " feathers, analysed as feathers " +
+                  std::to_string(first) + "-" + std::to_string(last) + " (one per quill)";
+      L.skipped.push_back(std::move(s));
+      continue;
+    }
+    if (k <= regions && !row_not_followed[std::size_t(k - 1)].empty()) {
+      skip_several(comp, k, "holds " + std::to_string(row_quills[std::size_t(k - 1)]) +
+                                " quills side by side (a shingled row) that could not be followed: " +
+                                row_not_followed[std::size_t(k - 1)]);
+      continue;
+    }
     if (comp.touches_border && !opt.allow_border) {
       skip(comp, k, "touches_border", "touches the image border, so it may be cut off",
            "photograph it with a margin, pick another with --feather, or pass --allow-border to "
@@ -235,6 +283,13 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
         skip_several(comp, k, shaft.several_feathers_why());
         continue;
       }
+      if (comp.row_feathers > 0) {
+        out.warnings.push_back("feather " + std::to_string(k) + ": one of a shingled row of " +
+                               std::to_string(comp.row_feathers) + " (region " +
+                               std::to_string(piece_region[std::size_t(k - regions - 1)]) +
+                               "), cut out along the quills; where its neighbours cover or meet it, its vane "
+                               "width is the generator's prior");
+      }
       if (comp.separated_from > 0) {
         std::ostringstream cut;
         cut << "feather " << k << ": cut out of " << comp.separated_from
@@ -242,6 +297,7 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
         out.warnings.push_back(cut.str());
       }
       analyze_feather(photo, seg, comp, shaft, k, opt, L, out, drawn, clock);
+      if (comp.row_feathers > 0) L.feathers.back().row = {piece_region[std::size_t(k - regions - 1)], comp.row_feathers};
     } catch (const Error& e) {
       // Errors from inside a stage do not know the file; name it and the feather.
       if (!e.where().file.empty()) throw;
@@ -258,6 +314,27 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
 namespace {
 
 constexpr int kShaftControlPoints = 6;
+
+// A shingled row's feather: the stations where a side's edge is one of the row's
+// other feathers, not the card (within 2 px past the measured width), are hidden:
+// width confidence 0, so the generator's prior builds the width there.
+void mark_hidden_stations(const Component& comp, const BSpline2& shaft_px, const VaneMeasure& vm, FeatherLayout& f) {
+  cv::Mat rest;
+  cv::dilate(comp.row_rest, rest, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
+  for (auto [side, measure, profile] : {std::tuple{-1, &vm.left, &f.left}, std::tuple{+1, &vm.right, &f.right}}) {
+    profile->width_hidden.assign(vm.t.size(), 0.0);
+    for (std::size_t i = 0; i < vm.t.size(); ++i) {
+      const glm::dvec2 C = shaft_px.eval(vm.t[i]);
+      const glm::dvec2 T = glm::normalize(shaft_px.deriv(vm.t[i]));
+      const glm::dvec2 N = double(side) * glm::dvec2(-T.y, T.x);  // the feather's +X side is (-T.y, T.x)
+      const glm::dvec2 E = C + (measure->width_px[i] + 1.0) * N;
+      const int x = int(std::lround(E.x)) - comp.bbox.x, y = int(std::lround(E.y)) - comp.bbox.y;
+      if (x < 0 || y < 0 || x >= rest.cols || y >= rest.rows || !rest.at<uchar>(y, x)) continue;
+      profile->width_hidden[i] = 1.0;
+      profile->width_confidence[i] = 0.0;
+    }
+  }
+}
 
 void analyze_feather(const Photo& photo, const Segmentation& seg, const Component& comp, const Shaft& shaft,
                      int k, const AnalyzeOptions& opt, Layout& L, PhotoAnalysis& out,
@@ -306,6 +383,7 @@ void analyze_feather(const Photo& photo, const Segmentation& seg, const Componen
   f.stations_t = vm.t;
   f.left = to_profile(vm.left, mm_per_work_px);
   f.right = to_profile(vm.right, mm_per_work_px);
+  if (comp.row_feathers > 0) mark_hidden_stations(comp, shaft_px, vm, f);
   // Down is told from vane by its texture at the barb scale, so only where the
   // photo resolves barbs (on either side).
   double period_mm = 0;

@@ -31,6 +31,12 @@ struct Component {
   // (segmentation.cpp, split_faint_row). The shaft tracer then takes the end
   // nearer it for the calamus.
   std::optional<cv::Point2d> base_px;
+  // > 0: this feather is one of a shingled row of that many, cut out of its
+  // region along the quills (quills.cpp, split_by_quills); `row_rest` (bbox-sized,
+  // 0/255) marks the row's other feathers' pixels in this box: where they meet
+  // this one, its vane is hidden under them or cut from them.
+  int row_feathers = 0;
+  cv::Mat row_rest;
 };
 struct Segmentation {
   bool dark_background = false;

@@ -473,3 +473,35 @@ inline constexpr std::size_t kDownyMinStations = 2;
 inline constexpr double kDownyMaxEndT = 0.5;
 
 }  // namespace plumage::analysis::thresholds::vane
+
+namespace plumage::analysis::thresholds::quills {
+
+// --- quills found as stems that leave the vane (quills.cpp, find_quills)
+// opening disc radius as a share of the region's largest inscribed radius: quills (2-8 % of a vane's width across) vanish, vanes stay; synthetic shingled rows, not tuned on photos
+inline constexpr double kOpenRadius = 0.25;
+// the opening disc's radius is at least this many px (a quill 1-2 px wide at the sheets' smallest feathers is under it)
+inline constexpr int kMinOpenRadiusPx = 2;
+// a stem is at least this long, as a share of the opening disc's diameter (half the vane's widest half-width): a calamus over it, barb tips and notches under it; not tuned
+inline constexpr double kMinLength = 1.0;
+// a stem is at least this share of the region's extent along it: a calamus (0.12-0.3 of its feather: blue-jay F35, synthetic rows) over it, a curl of down at a plume's edge (blue-jay F36, 0.08) under it
+inline constexpr double kMinShareOfExtent = 0.1;
+// a stem's mean width (area / length, over its outer two thirds) at most this share of the opening disc's diameter: a quill under it, a lobe of vane or a downy tuft over it; not tuned
+inline constexpr double kMaxWidth = 0.5;
+// width over the stem's outer third over its middle third, at least: a quill keeps its width, a pointed tip narrows to nothing (about 1/3); not tuned
+inline constexpr double kMinEndWidthRatio = 0.5;
+// pixels off the stem's axis at most this many of its mean widths (plus 1.5 px): a straight quill within, a curl of down or a split barb beyond; not tuned
+inline constexpr double kMaxBend = 1.5;
+// a stem's line, continued into the vane from kIntoFrom to kIntoTo disc radii past its base, lies at least kMinInto radii
+// from the card (median of 5 points): a quill's rachis runs into the vane's middle, a split-off strip of barbs or a curl of
+// down along the vane's edge; blue-jay sheet F15, F19 (split vanes) and F36 (a downy plume's edge) are not rows
+inline constexpr double kIntoFrom = 2.0, kIntoTo = 4.0, kMinInto = 1.0;
+// quills of one row point within this many degrees of their mean direction: a shingled row within, a fan or feathers laid every way beyond; synthetic rows tilt +-6 deg
+inline constexpr double kMaxRowSpread = 25.0;
+// a piece of a split row keeps at least this share of the row's median piece area: smaller means the row was not followed; not tuned
+inline constexpr double kMinPieceShare = 0.35;
+// ... and at most this share of it: an end strip that large holds a neighbour whose quill was not seen; not tuned
+inline constexpr double kMaxPieceShare = 1.8;
+// consecutive quills at most this many median gaps apart along the row: a wider gap is a quill not seen; synthetic rows are within 1.2
+inline constexpr double kMaxGapRatio = 1.6;
+
+}  // namespace plumage::analysis::thresholds::quills

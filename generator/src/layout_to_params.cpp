@@ -83,8 +83,10 @@ std::vector<glm::dvec2> vane_widths(const std::vector<double>& t, const VaneProf
   std::vector<glm::dvec2> out = trusted(t, v.width_mm, v.width_confidence);
   if (out.empty()) return out;
   std::vector<glm::dvec2> base;
+  // (A station hidden under a shingled row's neighbour shows only part of its
+  // width: the sure stations on either side of it decide there.)
   for (std::size_t i = 0; i < t.size() && t[i] < out.front().x; ++i)
-    base.push_back({t[i], v.width_mm[i]});
+    if (i >= v.width_hidden.size() || v.width_hidden[i] == 0) base.push_back({t[i], v.width_mm[i]});
   out.insert(out.begin(), base.begin(), base.end());
   return out;
 }
@@ -513,10 +515,19 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
     VaneParams& vp = p.vane(s == 0 ? VaneSide::Left : VaneSide::Right);
     const std::string side = names[s];
 
-    auto width = vane_widths(f.stations_t, v);
+    // A side hidden under its shingled row's neighbours over half its stations or
+    // more shows too little of itself: the prior builds it (docs/analysis.md,
+    // "Shingled rows").
+    const auto hidden_stations = std::count_if(v.width_hidden.begin(), v.width_hidden.end(), [](double h) { return h > 0; });
+    const bool hidden = hidden_stations > 0 && 2 * std::size_t(hidden_stations) >= v.width_hidden.size();
+    auto width = hidden ? std::vector<glm::dvec2>{} : vane_widths(f.stations_t, v);
     if (width.empty()) {
-      out.warnings.push_back(side + " vane width: no station is confident; used the default feather's profile "
-                                    "scaled to the shaft length");
+      out.warnings.push_back(side + (hidden ? " vane width: hidden under the feathers of its shingled row at " +
+                                                  std::to_string(hidden_stations) + " of " +
+                                                  std::to_string(v.width_hidden.size()) +
+                                                  " stations; used the default feather's profile "
+                                            : " vane width: no station is confident; used the default feather's profile ") +
+                             "scaled to the shaft length");
       for (const auto& k : preset.left.width.knots())
         width.push_back({calamus_t + k.x * (1 - calamus_t), k.y * L / preset.shaft.length});
     }

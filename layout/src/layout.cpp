@@ -79,13 +79,15 @@ void dump(const ojson& j, int indent, std::string& out) {
 }
 
 ojson profile(const VaneProfile& v) {
-  return {{"width_mm", v.width_mm},
+  ojson j = {{"width_mm", v.width_mm},
           {"width_confidence", v.width_confidence},
           {"barb_angle_deg", v.barb_angle_deg},
           {"barb_angle_confidence", v.barb_angle_confidence},
           {"barb_spacing_mm", v.barb_spacing_mm},
           {"barb_spacing_confidence", v.barb_spacing_confidence},
           {"afterfeather_to_t", v.afterfeather_to_t}};
+  if (!v.width_hidden.empty()) j["width_hidden"] = v.width_hidden;  // only a shingled row's feather
+  return j;
 }
 
 // --- strict reading: every value through JsonReader, which names its place ----
@@ -117,6 +119,8 @@ VaneProfile read_vane(const JsonReader& j, std::size_t n) {
   v.barb_spacing_confidence = j.member("barb_spacing_confidence").numbers(n, 0, 1);
   // Optional: layouts written before the downy base was measured have none.
   if (const auto a = j.find("afterfeather_to_t")) v.afterfeather_to_t = a->number(0, 1);
+  // Optional: only a shingled row's feathers have hidden stations.
+  if (const auto h = j.find("width_hidden")) v.width_hidden = h->numbers(n, 0, 1);
   return v;
 }
 
@@ -179,6 +183,10 @@ FeatherLayout read_feather(const JsonReader& j) {
     }
   }
   f.touches_border = j.member("touches_border").boolean();
+  if (const auto row = j.find("shingled_row")) {
+    f.row.region = int(row->member("region").integer(1, 1 << 20));
+    f.row.feathers = int(row->member("feathers").integer(2, 1 << 20));
+  }
   for (const JsonReader& w : j.member("warnings").elements()) f.warnings.push_back(w.string());
   return f;
 }
@@ -260,6 +268,8 @@ std::string layout_to_json(const Layout& L) {
                                {"mm_per_texel", f.albedo.mm_per_texel}}},
                              {"touches_border", f.touches_border},
                              {"warnings", f.warnings}});
+    if (f.row.feathers > 0)
+      feathers.back()["shingled_row"] = {{"region", f.row.region}, {"feathers", f.row.feathers}};
     if (f.albedo.scale != 1.0) feathers.back()["albedo"]["scale"] = f.albedo.scale;  // only a feather paler than its paper
     const auto rgb = [](const glm::dvec3& c) { return ojson::array({c.x, c.y, c.z}); };
     if (f.albedo.shaft_rgb.size() == 1) {
@@ -335,8 +345,8 @@ Layout parse_layout(const std::string& text, const std::string& source) {
       for (int k = 0; k < 4; ++k) s.bbox_px[k] = int(bb[std::size_t(k)]);
       const JsonReader reason = r.member("reason");
       s.reason = reason.string();
-      if (s.reason != "touches_border" && s.reason != "unseparated")
-        reason.fail("expected \"touches_border\" or \"unseparated\"");
+      if (s.reason != "touches_border" && s.reason != "unseparated" && s.reason != "split_row")
+        reason.fail("expected \"touches_border\", \"unseparated\" or \"split_row\"");
       s.message = r.member("message").string();
       L.skipped.push_back(std::move(s));
     }

@@ -39,6 +39,12 @@ struct VaneProfile {
   // fraction its barbs are loose and fluffy (plumulaceous), not an interlocked
   // vane; 0 when there is none. Its barb angles and spacing are not the vane's.
   double afterfeather_to_t = 0;
+  // 1 at a station where the side's edge is another feather of its shingled row
+  // (hidden under it, or cut from it along the quills), else 0; empty when the
+  // feather is no row's. There the width is what shows, a lower bound, and its
+  // confidence is 0, so the generator's prior builds it (docs/analysis.md,
+  // "Shingled rows").
+  std::vector<double> width_hidden;
 };
 
 struct AlbedoTexture {
@@ -86,6 +92,12 @@ struct FeatherLayout {
   VaneProfile left, right;         // seen from the dorsal side, tip up
   AlbedoTexture albedo;
   bool touches_border = false;
+  // One of a shingled row of `row.feathers` feathers that the analysis found as
+  // one region (id `row.region`, listed under skipped as "split_row") and cut
+  // into one feather per quill; 0 and 0 for a feather of its own.
+  struct Row {
+    int region = 0, feathers = 0;
+  } row;
   std::vector<std::string> warnings;
 };
 
@@ -96,7 +108,7 @@ struct FeatherLayout {
 struct SkippedRegion {
   int id = 1;
   std::array<int, 4> bbox_px{};  // x, y, w, h (photo pixels)
-  std::string reason;            // "touches_border" or "unseparated"
+  std::string reason;            // "touches_border", "unseparated" or "split_row"
   std::string message;           // for a person: what was seen and what to do
 };
 
