@@ -66,10 +66,13 @@ const plumage::cli::Registration reg{
           for (const auto& w : result.warnings) std::cerr << "plumage: warning: " << w << "\n";
           const auto& L = result.layout;
           std::cerr << "analyze: " << L.feathers.size() << " feather(s)";
-          if (!L.skipped.empty()) {
-            const auto border = std::count_if(L.skipped.begin(), L.skipped.end(),
-                                              [](const auto& s) { return s.reason == "touches_border"; });
-            std::cerr << ", " << L.skipped.size() << " region(s) skipped (" << L.skipped.size() - border
+          const auto reason = [&](const char* r) {
+            return std::count_if(L.skipped.begin(), L.skipped.end(), [&](const auto& s) { return s.reason == r; });
+          };
+          const auto border = reason("touches_border"), rows = reason("split_row");
+          if (rows > 0) std::cerr << " (" << rows << " shingled row(s) cut into one feather per quill)";
+          if (L.skipped.size() > std::size_t(rows)) {
+            std::cerr << ", " << L.skipped.size() - rows << " region(s) skipped (" << L.skipped.size() - rows - border
                       << " several feathers, " << border << " on the border)";
           }
           std::cerr << ", " << plumage::num(L.scale.mm_per_px) << " mm/px ("

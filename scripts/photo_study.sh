@@ -2,7 +2,7 @@
 # The photo study (issue 11): `plumage analyze` and `plumage generate` on every photo
 # in ../shared/photos; writes the overlays to docs/images/study-<photo>.jpg and a
 # table (feathers by eye, regions found and expected from the named groups, analysed,
-# skipped and why, barbs per side, shaft length,
+# skipped and why, rows cut by their quills, barbs per side, shaft length,
 # warnings) into docs/analysis.md between the photo-study markers. The counts by eye
 # are data/photo-study/counts.json (tests/photo_study_test.cpp holds analysis to them).
 #   scripts/photo_study.sh            (needs a built build/plumage)
@@ -47,8 +47,8 @@ counts = json.load(open("data/photo-study/counts.json"))["photos"]
 def expected(c):
     # counts.json's groups: k feathers making r regions each
     return c["feathers"] + sum(g["regions"] - g["feathers"] for g in c.get("groups", [])) if c.get("exact") else None
-rows = ["| photo | by eye | regions (expected) | analysed | skipped (id: why) | barbs per side, median (range) | shaft length mm (range) | S-ness % median (max) | shafts ≥ 100 px over 1.5 % S-ness | seen as ridge % median (range) | warnings | analyze exit, wall s |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+rows = ["| photo | by eye | regions (expected) | analysed | skipped (id: why) | rows cut by their quills (region: feathers) | barbs per side, median (range) | shaft length mm (range) | S-ness % median (max) | shafts ≥ 100 px over 1.5 % S-ness | seen as ridge % median (range) | warnings | analyze exit, wall s |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
 shaft_rows = []
 for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
     stem = os.path.basename(rc_file)[:-3]
@@ -59,10 +59,19 @@ for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
     eye_text = (f"{eye} ({rng[0]}–{rng[1]})" if rng else str(eye)) if eye else "not counted"
     if rc != "0":
         err = open(os.path.join(out, stem + ".analyze.txt")).read().strip().splitlines()
-        rows.append(f"| {name} | {eye_text} | — | — | — | — | — | — | — | — | {err[-1] if err else ''} | {rc}, {float(wall):.2f} |")
+        rows.append(f"| {name} | {eye_text} | — | — | — | — | — | — | — | — | — | {err[-1] if err else ''} | {rc}, {float(wall):.2f} |")
         continue
     L = json.load(open(os.path.join(out, stem + ".json")))
-    skipped = ", ".join(f"{s['id']}: {'border' if s['reason'] == 'touches_border' else 'touching'}" for s in L.get("skipped", []))
+    kept = [s for s in L.get("skipped", []) if s["reason"] != "split_row"]
+    skipped = ", ".join(f"{s['id']}: " + ("border" if s["reason"] == "touches_border"
+                                          else "quills" if "quills side by side" in s["message"] else "touching")
+                        for s in kept)
+    # A shingled row cut along its quills: the region's id and its feathers' ids.
+    split = []
+    for s in L.get("skipped", []):
+        if s["reason"] != "split_row": continue
+        ids = [f["id"] for f in L["feathers"] if f.get("shingled_row", {}).get("region") == s["id"]]
+        split.append(f"{s['id']}: " + ", ".join(f"F{i}" for i in ids))
     barbs, lengths, kinds = [], [], {}
     s_ness, seen, over = [], [], []
     arcs = counts.get(name, {}).get("shafts_not_simple_arcs", {})
@@ -80,7 +89,8 @@ for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
         for line in gen.splitlines():
             if "warning:" not in line: continue
             w = line.split(": ", 3)[-1]
-            key = ("downy base built loose" if "downy base" in w
+            key = ("width: hidden in a row" if "shingled row" in w
+                   else "downy base built loose" if "downy base" in w
                    else "spacing: prior" if "used the prior" in w else "spacing: other vane" if "vane's" in w
                    else "angle raised (fanning)" if "fan apart" in w
                    else "angle raised (vane widens)" if "raised where" in w else "angle held" if "held back" in w
@@ -94,11 +104,11 @@ for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
     l = f"{min(lengths):.0f}–{max(lengths):.0f}" if lengths else "—"
     warn = "; ".join(f"{k} ×{v}" for k, v in sorted(kinds.items(), key=lambda kv: -kv[1]))
     exp = expected(counts.get(name, {}))
-    found = len(L["feathers"]) + len(L.get("skipped", []))
+    found = len(L["feathers"]) + len(kept)  # a row cut by its quills counts as its feathers
     regions = f"{found} ({exp})" if exp is not None else str(found)
     sn = f"{statistics.median(s_ness):.1f} ({max(s_ness):.1f})" if s_ness else "—"
     sr = f"{statistics.median(seen):.0f} ({min(seen):.0f}–{max(seen):.0f})" if seen else "—"
-    rows.append(f"| {name} | {eye_text} | {regions} | {len(L['feathers'])} | {skipped or '—'} | {b} | {l} | {sn} | {', '.join(over) or '—'} | {sr} | {warn or '—'} | {rc}, {float(wall):.2f} |")
+    rows.append(f"| {name} | {eye_text} | {regions} | {len(L['feathers'])} | {skipped or '—'} | {'; '.join(split) or '—'} | {b} | {l} | {sn} | {', '.join(over) or '—'} | {sr} | {warn or '—'} | {rc}, {float(wall):.2f} |")
 open(os.path.join(out, "photo-study-table.md"), "w").write("\n".join(rows) + "\n")
 PY
 python3 scripts/doc_table.py docs/analysis.md photo-study "$out/photo-study-table.md"

@@ -161,6 +161,7 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
     split_ids[std::size_t(k - 1)] = {regions + int(pieces.size()) + 1, regions + int(pieces.size() + split.pieces.size())};
     for (Component& c : split.pieces) pieces.push_back(std::move(c)), piece_region.push_back(k);
   }
+  clock.lap("quills");
   const int count = regions + int(pieces.size());
   if (opt.feather && (*opt.feather < 1 || *opt.feather > count))
     throw Error(where, "--feather " + std::to_string(*opt.feather) + ": the photo has " +

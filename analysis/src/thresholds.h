@@ -3,7 +3,8 @@
 // analysis/src; pixel figures in working pixels, the photo after any downscale;
 // docs/analysis.md, "Where the code is"). One namespace per stage that decides
 // with them: segmentation (feathers told from the card, and in separate.cpp and
-// rows.cpp touching ones cut apart and faint rows joined and cut), shaft (the
+// rows.cpp touching ones cut apart and faint rows joined and cut), quills (shingled
+// rows cut into one feather per quill), shaft (the
 // rachis traced, rows and fans of feathers told apart), vane (widths, barb angles
 // and spacing, the downy base). Each threshold has one comment line: what it
 // separates and where it was measured; "not tuned" or "not documented" where no
@@ -491,10 +492,12 @@ inline constexpr double kMaxWidth = 0.5;
 inline constexpr double kMinEndWidthRatio = 0.5;
 // pixels off the stem's axis at most this many of its mean widths (plus 1.5 px): a straight quill within, a curl of down or a split barb beyond; not tuned
 inline constexpr double kMaxBend = 1.5;
-// a stem's line, continued into the vane from kIntoFrom to kIntoTo disc radii past its base, lies at least kMinInto radii
-// from the card (median of 5 points): a quill's rachis runs into the vane's middle, a split-off strip of barbs or a curl of
-// down along the vane's edge; blue-jay sheet F15, F19 (split vanes) and F36 (a downy plume's edge) are not rows
-inline constexpr double kIntoFrom = 2.0, kIntoTo = 4.0, kMinInto = 1.0;
+// a stem's line is followed into the vane from this many disc radii past its base ...; not tuned
+inline constexpr double kIntoFrom = 2.0;
+// ... to this many (5 points in all); not tuned
+inline constexpr double kIntoTo = 4.0;
+// ... where it lies at least this many radii from the card (median): a quill's rachis runs into the vane's middle, a split-off strip of barbs or down along its edge (blue-jay F15, F19, F36) does not
+inline constexpr double kMinInto = 1.0;
 // quills of one row point within this many degrees of their mean direction: a shingled row within, a fan or feathers laid every way beyond; synthetic rows tilt +-6 deg
 inline constexpr double kMaxRowSpread = 25.0;
 // a piece of a split row keeps at least this share of the row's median piece area: smaller means the row was not followed; not tuned
