@@ -14,6 +14,7 @@
 #include <random>
 #include <unistd.h>
 
+#include "plumage/common/error.h"
 #include "plumage/common/image.h"
 #include "plumage/analysis/analyze.h"
 #include "plumage/layout/layout.h"
@@ -425,4 +426,43 @@ TEST(AnalysisPale, FaintRowsInAnyDirectionAreToldApart) {
   }
   if (HasFailure()) std::cerr << "photos kept in " << dir << "\n";
   else fs::remove_all(dir);
+}
+
+// A white feather on a grey card, one half in its own shadow: where the shadowed
+// half's colour is the card's (card 0.45 and 0.55 with the half at 0.55 and 0.70 of
+// white; IoU 0.51 by colour alone, one half left out), its barbs' texture, which
+// the card does not have, still outlines it (grow_into_texture, docs/analysis.md
+// "Low-contrast outlines"): the outline's IoU with the drawn feather is at least 0.9
+// on every card from dark to light grey, shadowed or not.
+TEST(AnalysisPale, AWhiteFeatherOnAGreyCardIsOutlinedWholeShadowedHalfAndAll) {
+  const fs::path dir = pale_dir("white_on_grey");
+  for (const auto& [card, shadow] : {std::pair{0.45f, 0.55f}, std::pair{0.55f, 0.70f}, std::pair{0.55f, 1.0f},
+                                      std::pair{0.75f, 0.55f}}) {
+    UprightFeather f;
+    f.white_from = 0;
+    const Paint p = [f, shadow = shadow](double x, double y, glm::vec3& c) {
+      if (!f.paint(x, y, c)) return false;
+      if (x < f.cx) c *= shadow;
+      return true;
+    };
+    write_image(dir / "w.png", draw_card(600, 700, card, 0.0f, 0.01f, {p}));
+    const PhotoAnalysis A = analyze_photo(dir / "w.png", AnalyzeOptions{});
+    ASSERT_EQ(A.layout.feathers.size(), 1u) << "card " << card << ", shadow " << shadow;
+    // IoU of the outline polygon and the drawn feather over the pixel centres.
+    const auto& P = A.layout.feathers[0].outline_px;
+    double inter = 0, uni = 0;
+    for (int y = 0; y < 700; ++y)
+      for (int x = 0; x < 600; ++x) {
+        const double px = x + 0.5, py = y + 0.5, hw = f.half_width(f.calamus_y - py);
+        const bool truth = hw >= 0 && std::fabs(px - f.cx) <= hw;
+        bool got = false;
+        for (std::size_t i = 0, j = P.size() - 1; i < P.size(); j = i++)
+          if ((P[i].y > py) != (P[j].y > py) && px < (P[j].x - P[i].x) * (py - P[i].y) / (P[j].y - P[i].y) + P[i].x)
+            got = !got;
+        inter += truth && got;
+        uni += truth || got;
+      }
+    EXPECT_GE(inter / uni, 0.9) << "card " << card << ", shadow " << shadow;
+  }
+  fs::remove_all(dir);
 }

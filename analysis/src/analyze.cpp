@@ -255,6 +255,18 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
       continue;
     }
     if (k <= regions && !row_not_followed[std::size_t(k - 1)].empty()) {
+      // Several feathers either way; the shaft tracer's reason (a fan, a row's
+      // tips or lines) names them better when it has one.
+      std::string why;
+      try {
+        if (const Shaft traced = trace_shaft(photo.bgr, comp); traced.several_feathers())
+          why = traced.several_feathers_why();
+      } catch (const Error&) {
+      }
+      if (!why.empty()) {
+        skip_several(comp, k, why);
+        continue;
+      }
       skip_several(comp, k, "holds " + std::to_string(row_quills[std::size_t(k - 1)]) +
                                 " quills side by side (a shingled row) that could not be followed: " +
                                 row_not_followed[std::size_t(k - 1)]);

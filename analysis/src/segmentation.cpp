@@ -43,6 +43,63 @@ void border_statistics(const cv::Mat& bgr, cv::Vec3d& median, double& sigma) {
   sigma = 1.4826 * plumage::median(std::move(luma));  // MAD to a Gaussian sigma
 }
 
+// Low-contrast outlines: a feather part whose colour is the card's (a white
+// feather's shadowed half on a grey card, a grey vane on a grey card) is still
+// textured by its barbs, where the card is not. Texture is the local RMS of the
+// grey minus its kTextureBlur box blur, over a kTextureWindow box; a pixel is
+// textured above the card's own (the border frame's median plus kTextureSigmas
+// of its spread, at least kMinTextureLevels grey levels). Textured pixels, opened
+// with a kTextureOpen disc (the band of gradient along every edge is thinner and
+// goes), join the feather of `labels` (CV_32S, 0 the card) they touch; a textured
+// patch that touches two feathers, or none, joins nothing (feathers never merge,
+// the card never becomes a feather). Returns how many pixels joined.
+int grow_into_texture(const cv::Mat& bgr, cv::Mat& labels) {
+  cv::Mat grey, blur, hp, power;
+  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+  cv::blur(grey, blur, cv::Size(kTextureBlur, kTextureBlur));
+  cv::subtract(grey, blur, hp, cv::noArray(), CV_32F);
+  cv::multiply(hp, hp, hp);
+  cv::boxFilter(hp, power, -1, cv::Size(kTextureWindow, kTextureWindow));  // the texture squared
+  const int b = border_frame_px(bgr.cols, bgr.rows);
+  std::vector<double> frame;
+  for (int y = 0; y < bgr.rows; ++y)
+    for (int x = 0; x < bgr.cols; ++x)
+      if (y < b || y >= bgr.rows - b || x < b || x >= bgr.cols - b)
+        frame.push_back(std::sqrt(double(power.at<float>(y, x))));
+      else
+        x = bgr.cols - b - 1;
+  const double m = plumage::median(frame);
+  for (double& v : frame) v = std::fabs(v - m);
+  const double spread = 1.4826 * plumage::median(std::move(frame));
+  const double level = std::max(m + kTextureSigmas * spread, double(kMinTextureLevels));
+  const cv::Mat feather = labels > 0;
+  cv::Mat textured = (power > level * level) & ~feather;
+  cv::morphologyEx(textured, textured, cv::MORPH_OPEN,
+                   cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(kTextureOpen, kTextureOpen)));
+  cv::Mat patches;
+  const int np = cv::connectedComponents(textured | feather, patches, 8, CV_32S);
+  // Per patch of textured-or-feather pixels: the one feather it holds, or -1 for several.
+  std::vector<int> holds(static_cast<std::size_t>(np), 0);
+  for (int y = 0; y < labels.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    const int* pt = patches.ptr<int>(y);
+    for (int x = 0; x < labels.cols; ++x) {
+      if (!l[x]) continue;
+      int& h = holds[std::size_t(pt[x])];
+      h = h == 0 || h == l[x] ? l[x] : -1;
+    }
+  }
+  int joined = 0;
+  for (int y = 0; y < labels.rows; ++y) {
+    int* l = labels.ptr<int>(y);
+    const int* pt = patches.ptr<int>(y);
+    const uchar* t = textured.ptr<uchar>(y);
+    for (int x = 0; x < labels.cols; ++x)
+      if (t[x] && holds[std::size_t(pt[x])] > 0) l[x] = holds[std::size_t(pt[x])], ++joined;
+  }
+  return joined;
+}
+
 }  // namespace
 
 
@@ -422,11 +479,16 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   cv::Mat found;  // the pixels the regions were outlined from (holes not filled)
   if (bg_luma >= kPaleCardMin && bg_luma <= kPaleCardMax) {
     cv::Mat pale;
-    const cv::Mat labels = label_with_pale_parts(bgr, bin, sigma, open_k, min_area, pale);
+    cv::Mat labels = label_with_pale_parts(bgr, bin, sigma, open_k, min_area, pale);
+    grow_into_texture(bgr, labels);
     found = labels > 0;
     seg.foreground |= found;
     contours = label_contours(labels, pale);
   } else {
+    cv::Mat labels;
+    cv::connectedComponents(bin, labels, 8, CV_32S);
+    grow_into_texture(bgr, labels);
+    bin = labels > 0;
     found = bin.clone();
     cv::findContours(bin, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
   }

@@ -34,6 +34,18 @@ inline constexpr double kHysteresisShare = 0.5;
 // floor of the hysteresis level (8-bit levels), as kMinThreshold is of the threshold; docs/analysis.md step 2
 inline constexpr double kMinLowThreshold = 12.0;
 
+// --- low-contrast outlines: textured parts joined to their feather (grow_into_texture)
+// box (px) whose mean is taken from the grey for the texture: barbs 2-7 px apart pass, shading and gradients do not; not tuned
+inline constexpr int kTextureBlur = 5;
+// box (px) over which the texture's RMS is taken; not tuned
+inline constexpr int kTextureWindow = 7;
+// texture above the border frame's median by this many sigma (MAD) is a feather's, at or under it the card's grain; not tuned
+inline constexpr double kTextureSigmas = 6.0;
+// ... and at least this many grey levels: a clean card's grain and JPEG ringing under it; not tuned
+inline constexpr int kMinTextureLevels = 3;
+// opening disc (px) on the textured pixels: the band of gradient along every edge (2-4 px) goes, a textured half-vane stays; not tuned
+inline constexpr int kTextureOpen = 7;
+
 // --- regions kept: specks, rulings, text (segment_feathers, is_strokes)
 // area floor in px (pixels inside the outline): specks below; peregrine sheet (424 x 600): its smallest body feathers are 82-143 px
 inline constexpr double kMinAreaPx = 60.0;
