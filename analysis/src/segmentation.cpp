@@ -485,10 +485,6 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
     seg.foreground |= found;
     contours = label_contours(labels, pale);
   } else {
-    cv::Mat labels;
-    cv::connectedComponents(bin, labels, 8, CV_32S);
-    grow_into_texture(bgr, labels);
-    bin = labels > 0;
     found = bin.clone();
     cv::findContours(bin, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
   }
