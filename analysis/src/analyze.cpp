@@ -142,24 +142,28 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
   // one feather per quill; its pieces take the ids after the regions', in the
   // order of their quills along the row (docs/analysis.md, "Shingled rows").
   const int regions = int(seg.feathers.size());
-  std::vector<Component> pieces;
-  std::vector<int> piece_region;
-  std::vector<std::pair<int, int>> split_ids(std::size_t(regions), {0, 0});  // first and last piece id
-  std::vector<std::string> row_not_followed(static_cast<std::size_t>(regions));
-  std::vector<int> row_quills(std::size_t(regions), 0);
+  struct RowOfQuills {
+    int quills = 0;                 // in a row; 0: no row
+    int first_id = 0, last_id = 0;  // its feathers' ids, when it was cut
+    std::string not_followed;       // why it was not, when it was not
+  };
+  std::vector<RowOfQuills> rows(static_cast<std::size_t>(regions));
+  std::vector<Component> pieces;  // ids regions + 1, ...
   for (int k = 1; k <= regions; ++k) {
     const Component& comp = seg.feathers[std::size_t(k - 1)];
     if (comp.touches_border && !opt.allow_border) continue;
-    const std::vector<Quill> row = quills_of_a_row(find_quills(comp));
-    if (row.size() < 2) continue;
-    row_quills[std::size_t(k - 1)] = int(row.size());
-    RowSplit split = split_by_quills(comp, row, photo.bgr.size());
+    const std::vector<Quill> quills = quills_of_a_row(find_quills(comp));
+    if (quills.size() < 2) continue;
+    RowOfQuills& row = rows[std::size_t(k - 1)];
+    row.quills = int(quills.size());
+    RowSplit split = split_by_quills(comp, quills, photo.bgr.size());
     if (split.pieces.empty()) {
-      row_not_followed[std::size_t(k - 1)] = split.why;
+      row.not_followed = split.why;
       continue;
     }
-    split_ids[std::size_t(k - 1)] = {regions + int(pieces.size()) + 1, regions + int(pieces.size() + split.pieces.size())};
-    for (Component& c : split.pieces) pieces.push_back(std::move(c)), piece_region.push_back(k);
+    row.first_id = regions + int(pieces.size()) + 1;
+    row.last_id = regions + int(pieces.size() + split.pieces.size());
+    for (Component& c : split.pieces) c.row_region = k, pieces.push_back(std::move(c));
   }
   clock.lap("quills");
   const int count = regions + int(pieces.size());
@@ -235,26 +239,27 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
          "lay them apart on the card and photograph them again, or pick another with --feather");
   };
   for (int k = 1; k <= count; ++k) {
-    if (opt.feather && *opt.feather != k && !(k <= regions && split_ids[std::size_t(k - 1)].first > 0)) continue;
+    const RowOfQuills* row = k <= regions ? &rows[std::size_t(k - 1)] : nullptr;
+    if (opt.feather && *opt.feather != k && !(row && row->first_id > 0)) continue;
     const Component& comp = k <= regions ? seg.feathers[std::size_t(k - 1)] : pieces[std::size_t(k - regions - 1)];
-    if (k <= regions && split_ids[std::size_t(k - 1)].first > 0) {
+    if (row && row->first_id > 0) {
       // Not analysed as one: its feathers are, under their own ids.
-      const auto [first, last] = split_ids[std::size_t(k - 1)];
+      const std::string ids = std::to_string(row->first_id) + "-" + std::to_string(row->last_id);
       if (opt.feather && *opt.feather == k)
-        throw Error(where, "--feather " + std::to_string(k) + " is a shingled row, analysed as feathers " +
-                               std::to_string(first) + "-" + std::to_string(last) + " (one per quill); pick one of them");
+        throw Error(where, "--feather " + std::to_string(k) + " is a shingled row, analysed as feathers " + ids +
+                               " (one per quill); pick one of them");
       if (opt.feather) continue;
       SkippedRegion s;
       s.id = k;
       s.bbox_px = {int(std::floor(comp.bbox.x / ds)), int(std::floor(comp.bbox.y / ds)),
                    int(std::ceil(comp.bbox.width / ds)), int(std::ceil(comp.bbox.height / ds))};
       s.reason = "split_row";
-      s.message = "a shingled row of " + std::to_string(last - first + 1) + " feathers, analysed as feathers " +
-                  std::to_string(first) + "-" + std::to_string(last) + " (one per quill)";
+      s.message = "a shingled row of " + std::to_string(row->last_id - row->first_id + 1) +
+                  " feathers, analysed as feathers " + ids + " (one per quill)";
       L.skipped.push_back(std::move(s));
       continue;
     }
-    if (k <= regions && !row_not_followed[std::size_t(k - 1)].empty()) {
+    if (row && !row->not_followed.empty()) {
       // Several feathers either way; the shaft tracer's reason (a fan, a row's
       // tips or lines) names them better when it has one.
       std::string why;
@@ -263,13 +268,10 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
           why = traced.several_feathers_why();
       } catch (const Error&) {
       }
-      if (!why.empty()) {
-        skip_several(comp, k, why);
-        continue;
-      }
-      skip_several(comp, k, "holds " + std::to_string(row_quills[std::size_t(k - 1)]) +
-                                " quills side by side (a shingled row) that could not be followed: " +
-                                row_not_followed[std::size_t(k - 1)]);
+      skip_several(comp, k, !why.empty() ? why
+                                         : "holds " + std::to_string(row->quills) +
+                                               " quills side by side (a shingled row) that could not be followed: " +
+                                               row->not_followed);
       continue;
     }
     if (comp.touches_border && !opt.allow_border) {
@@ -298,8 +300,7 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
       }
       if (comp.row_feathers > 0) {
         out.warnings.push_back("feather " + std::to_string(k) + ": one of a shingled row of " +
-                               std::to_string(comp.row_feathers) + " (region " +
-                               std::to_string(piece_region[std::size_t(k - regions - 1)]) +
+                               std::to_string(comp.row_feathers) + " (region " + std::to_string(comp.row_region) +
                                "), cut out along the quills; where its neighbours cover or meet it, its vane "
                                "width is the generator's prior");
       }
@@ -310,7 +311,7 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
         out.warnings.push_back(cut.str());
       }
       analyze_feather(photo, seg, comp, shaft, k, opt, L, out, drawn, clock);
-      if (comp.row_feathers > 0) L.feathers.back().row = {piece_region[std::size_t(k - regions - 1)], comp.row_feathers};
+      if (comp.row_feathers > 0) L.feathers.back().row = {comp.row_region, comp.row_feathers};
     } catch (const Error& e) {
       // Errors from inside a stage do not know the file; name it and the feather.
       if (!e.where().file.empty()) throw;

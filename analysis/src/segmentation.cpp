@@ -89,6 +89,23 @@ int grow_into_texture(const cv::Mat& bgr, cv::Mat& labels) {
       h = h == 0 || h == l[x] ? l[x] : -1;
     }
   }
+  // A patch adds a part of a feather, at least kMinTexturePart of its area: slivers
+  // along an edge (a shadow, a neighbour's fringe) add nothing.
+  double most = 0;
+  cv::minMaxLoc(labels, nullptr, &most);
+  std::vector<int> area(std::size_t(most) + 1, 0), added(static_cast<std::size_t>(np), 0);
+  for (int y = 0; y < labels.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    const int* pt = patches.ptr<int>(y);
+    const uchar* t = textured.ptr<uchar>(y);
+    for (int x = 0; x < labels.cols; ++x) {
+      ++area[std::size_t(std::max(0, l[x]))];
+      if (t[x]) ++added[std::size_t(pt[x])];
+    }
+  }
+  for (int p = 1; p < np; ++p)
+    if (holds[std::size_t(p)] > 0 && added[std::size_t(p)] < kMinTexturePart * area[std::size_t(holds[std::size_t(p)])])
+      holds[std::size_t(p)] = 0;
   int joined = 0;
   for (int y = 0; y < labels.rows; ++y) {
     int* l = labels.ptr<int>(y);

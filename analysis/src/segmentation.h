@@ -36,6 +36,7 @@ struct Component {
   // 0/255) marks the row's other feathers' pixels in this box: where they meet
   // this one, its vane is hidden under them or cut from them.
   int row_feathers = 0;
+  int row_region = 0;  // the id of the region it was cut from (set by analyze_photo)
   cv::Mat row_rest;
 };
 struct Segmentation {

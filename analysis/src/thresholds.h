@@ -45,6 +45,8 @@ inline constexpr double kTextureSigmas = 6.0;
 inline constexpr int kMinTextureLevels = 3;
 // opening disc (px) on the textured pixels: the band of gradient along every edge (2-4 px) goes, a textured half-vane stays; not tuned
 inline constexpr int kTextureOpen = 7;
+// a textured patch joins its feather only when it adds at least this share of the feather's area: a shadowed half-vane (about 0.4) does, slivers along an edge (blue-jay F40's right vane beside its neighbour) do not; not tuned further
+inline constexpr double kMinTexturePart = 0.1;
 
 // --- regions kept: specks, rulings, text (segment_feathers, is_strokes)
 // area floor in px (pixels inside the outline): specks below; peregrine sheet (424 x 600): its smallest body feathers are 82-143 px
