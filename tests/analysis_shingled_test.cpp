@@ -63,8 +63,8 @@ fs::path scratch(const std::string& name) {
   return d;
 }
 
-glm::dvec2 calamus_px(const FeatherLayout& f) { return apply(f.image_from_feather, f.shaft_mm.eval(0.0)); }
-glm::dvec2 tip_px(const FeatherLayout& f) { return apply(f.image_from_feather, f.shaft_mm.eval(1.0)); }
+glm::dvec2 calamus_px(const FeatherLayout& f) { return synthetic::shaft_px(f, 0.0); }
+glm::dvec2 tip_px(const FeatherLayout& f) { return synthetic::shaft_px(f, 1.0); }
 
 }  // namespace
 

@@ -18,6 +18,11 @@
 
 namespace plumage::synthetic {
 
+// A point of an analysed feather's shaft in photo pixels, t = 0 its calamus, 1 its tip.
+inline glm::dvec2 shaft_px(const FeatherLayout& f, double t) {
+  return apply(f.image_from_feather, f.shaft_mm.eval(t));
+}
+
 struct RowOutcome {
   bool reported = false;  // refused or skipped as several feathers
   std::string message;    // why, when reported
@@ -42,7 +47,7 @@ inline RowOutcome analyse_row(const std::filesystem::path& photo, const std::vec
     if (r.reason != "split_row") out.reported = true, out.message += r.message;
   std::vector<int> matched(row.size(), 0);
   for (const FeatherLayout& f : L.feathers) {
-    const glm::dvec2 c = apply(f.image_from_feather, f.shaft_mm.eval(0.0));
+    const glm::dvec2 c = shaft_px(f, 0.0);
     std::size_t k = 0;
     for (std::size_t j = 1; j < row.size(); ++j)
       if (glm::length(row[j].calamus - c) < glm::length(row[k].calamus - c)) k = j;
@@ -50,7 +55,7 @@ inline RowOutcome analyse_row(const std::filesystem::path& photo, const std::vec
     ++matched[k];
     EXPECT_LT(glm::length(c - t.calamus), 0.03 * t.length) << "feather " << f.id;
     for (int i = 0; i <= 18; ++i) {
-      const glm::dvec2 p = apply(f.image_from_feather, f.shaft_mm.eval(i / 20.0));
+      const glm::dvec2 p = shaft_px(f, i / 20.0);
       auto off_rachis = [&](const SyntheticFeather& g) {
         return glm::length(p - (g.calamus + std::clamp(g.along(p.x, p.y), 0.0, g.length) * g.dir()));
       };

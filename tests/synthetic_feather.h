@@ -118,16 +118,25 @@ struct SyntheticFeather {
 
   // sRGB-valued picture, 3x3 supersampled, blurred, with Gaussian noise.
   Image draw(int channels = 3) const {
+    const Image img = supersampled([&](glm::dvec2 p) {
+      int cls;
+      return colour_at(p, cls);
+    });
+    return finish(img, channels, [&](glm::dvec2 p) { return inside(p); });
+  }
+
+  // This picture's size, each pixel the mean of `colour` (sRGB) at 3x3 points in it.
+  template <class Colour>
+  Image supersampled(Colour colour) const {
     Image img(width, height, 3);
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x) {
         glm::vec3 acc(0.f);
-        int cls;
         for (int sy = 0; sy < 3; ++sy)
-          for (int sx = 0; sx < 3; ++sx) acc += colour_at({x + (sx + 0.5) / 3.0, y + (sy + 0.5) / 3.0}, cls);
+          for (int sx = 0; sx < 3; ++sx) acc += colour(glm::dvec2(x + (sx + 0.5) / 3.0, y + (sy + 0.5) / 3.0));
         img.set_rgb(x, y, acc / 9.0f);
       }
-    return finish(img, channels, [&](glm::dvec2 p) { return inside(p); });
+    return img;
   }
 
   // The picture `img` (sRGB, 3 channels) blurred, with this feather's noise, as a
@@ -168,7 +177,6 @@ struct SyntheticFeather {
 // the first feather's.
 inline Image draw_overlapping(const std::vector<SyntheticFeather>& layers) {
   const SyntheticFeather& base = layers.front();
-  Image img(base.width, base.height, 3);
   auto topmost = [&](glm::dvec2 p, glm::vec3& colour) {
     for (std::size_t k = layers.size(); k-- > 0;) {
       int cls;
@@ -177,16 +185,11 @@ inline Image draw_overlapping(const std::vector<SyntheticFeather>& layers) {
     }
     return colour = base.background(), false;
   };
-  for (int y = 0; y < base.height; ++y)
-    for (int x = 0; x < base.width; ++x) {
-      glm::vec3 acc(0.f), c;
-      for (int sy = 0; sy < 3; ++sy)
-        for (int sx = 0; sx < 3; ++sx) {
-          topmost({x + (sx + 0.5) / 3.0, y + (sy + 0.5) / 3.0}, c);
-          acc += c;
-        }
-      img.set_rgb(x, y, acc / 9.0f);
-    }
+  const Image img = base.supersampled([&](glm::dvec2 p) {
+    glm::vec3 c;
+    topmost(p, c);
+    return c;
+  });
   return base.finish(img, 3, [&](glm::dvec2 p) { glm::vec3 c; return topmost(p, c); });
 }
 

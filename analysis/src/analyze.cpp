@@ -3,6 +3,7 @@
 #include "plumage/analysis/analyze.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -53,6 +54,11 @@ glm::dmat3x2 feather_from_photo(const glm::dvec2& calamus, const glm::dvec2& tip
 // top-left corner of the top-left pixel (docs/layout-format.md), so that the centre of
 // working pixel (i, j) lies at ((i + 1/2) / ds, (j + 1/2) / ds) in them.
 glm::dvec2 photo_from_work(const glm::dvec2& p, double ds) { return (p + 0.5) / ds; }
+// A working-pixel box as the photo pixels that hold it (x, y, w, h).
+std::array<int, 4> photo_box(const cv::Rect& box, double ds) {
+  return {int(std::floor(box.x / ds)), int(std::floor(box.y / ds)), int(std::ceil(box.width / ds)),
+          int(std::ceil(box.height / ds))};
+}
 
 std::vector<double> scaled(const std::vector<double>& v, double k) {
   std::vector<double> out(v);
@@ -225,8 +231,7 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
     if (first_refusal.empty()) first_refusal = refusal;
     SkippedRegion s;
     s.id = k;
-    s.bbox_px = {int(std::floor(comp.bbox.x / ds)), int(std::floor(comp.bbox.y / ds)),
-                 int(std::ceil(comp.bbox.width / ds)), int(std::ceil(comp.bbox.height / ds))};
+    s.bbox_px = photo_box(comp.bbox, ds);
     s.reason = reason;
     s.message = "skipped: " + what + box.str();
     out.warnings.push_back("feather " + std::to_string(k) + " " + s.message);
@@ -251,8 +256,7 @@ PhotoAnalysis analyze_photo(const fs::path& photo_path, const AnalyzeOptions& op
       if (opt.feather) continue;
       SkippedRegion s;
       s.id = k;
-      s.bbox_px = {int(std::floor(comp.bbox.x / ds)), int(std::floor(comp.bbox.y / ds)),
-                   int(std::ceil(comp.bbox.width / ds)), int(std::ceil(comp.bbox.height / ds))};
+      s.bbox_px = photo_box(comp.bbox, ds);
       s.reason = "split_row";
       s.message = "a shingled row of " + std::to_string(row->last_id - row->first_id + 1) +
                   " feathers, analysed as feathers " + ids + " (one per quill)";
@@ -367,8 +371,7 @@ void analyze_feather(const Photo& photo, const Segmentation& seg, const Componen
 
   FeatherLayout f;
   f.id = k;
-  f.bbox_px = {int(std::floor(comp.bbox.x / ds)), int(std::floor(comp.bbox.y / ds)),
-               int(std::ceil(comp.bbox.width / ds)), int(std::ceil(comp.bbox.height / ds))};
+  f.bbox_px = photo_box(comp.bbox, ds);
   std::vector<cv::Point> poly;
   cv::approxPolyDP(comp.contour, poly, 0.75, true);
   for (const auto& p : poly) f.outline_px.push_back(photo_from_work(glm::dvec2(p.x, p.y), ds));

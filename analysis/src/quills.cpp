@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "plumage/common/constants.h"
+#include "plumage/common/median.h"
 #include "regions.h"
 #include "thresholds.h"
 
@@ -19,6 +20,8 @@ cv::Point2d Quill::dir() const {
 }
 
 std::vector<Quill> find_quills(const Component& region) {
+  // Distance to the card (`depth`: also where a stem's line runs on into the vane),
+  // on the mask framed wide enough for the opening; the frame is card.
   cv::Mat framed, dt;
   cv::copyMakeBorder(region.mask, framed, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
   cv::distanceTransform(framed, dt, cv::DIST_L2, 3);
@@ -26,10 +29,9 @@ std::vector<Quill> find_quills(const Component& region) {
   cv::minMaxLoc(dt, nullptr, &widest);
   const int r = std::max(kMinOpenRadiusPx, int(std::lround(kOpenRadius * widest)));
   const int pad = r + 2;
-  cv::Mat M;
+  cv::Mat M, depth;
   cv::copyMakeBorder(region.mask, M, pad, pad, pad, pad, cv::BORDER_CONSTANT, cv::Scalar(0));
-  cv::Mat depth;  // distance to the card, for where a stem's line runs on into the vane
-  cv::distanceTransform(M, depth, cv::DIST_L2, 3);
+  cv::copyMakeBorder(dt, depth, pad - 1, pad - 1, pad - 1, pad - 1, cv::BORDER_CONSTANT, cv::Scalar(0));
   cv::Mat opened, residual, touching;
   cv::morphologyEx(M, opened, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
   residual = M & ~opened;
@@ -67,18 +69,15 @@ std::vector<Quill> find_quills(const Component& region) {
     // vane, which the disc cannot reach either, widen it.
     const cv::Point2d axis = (free_end - base) / std::max(far, 1e-9);
     int middle = 0, outer = 0;
-    for (const cv::Point& p : P) {
-      const cv::Point2d d = cv::Point2d(p) - base;
-      const double s = (d.x * axis.x + d.y * axis.y) / length;
-      if (s >= 2.0 / 3) ++outer;
-      else if (s >= 1.0 / 3) ++middle;
-    }
-    const double width = double(middle + outer) / (2.0 / 3 * length);
     double bend = 0;
     for (const cv::Point& p : P) {
       const cv::Point2d d = cv::Point2d(p) - base;
-      if ((d.x * axis.x + d.y * axis.y) / length >= 1.0 / 3) bend = std::max(bend, std::fabs(d.x * axis.y - d.y * axis.x));
+      const double s = d.dot(axis) / length;
+      if (s < 1.0 / 3) continue;
+      ++(s >= 2.0 / 3 ? outer : middle);
+      bend = std::max(bend, std::fabs(d.x * axis.y - d.y * axis.x));
     }
+    const double width = double(middle + outer) / (2.0 / 3 * length);
     // Its line runs on into the vane with vane on both sides, as a rachis does: a
     // split-off strip of barbs or a curl of down at the vane's edge runs along it.
     std::vector<float> inside;
@@ -87,8 +86,7 @@ std::vector<Quill> find_quills(const Component& region) {
       const int qx = int(std::lround(q.x)), qy = int(std::lround(q.y));
       inside.push_back(qx >= 0 && qy >= 0 && qx < depth.cols && qy < depth.rows ? depth.at<float>(qy, qx) : 0.f);
     }
-    std::nth_element(inside.begin(), inside.begin() + 2, inside.end());
-    const double into = inside[2] / r;
+    const double into = median(std::move(inside)) / r;
     // And a calamus is a tenth or more of its feather: a curl of down at a plume's
     // edge is shorter.
     double lo = 1e300, hi = -1e300;
@@ -144,6 +142,17 @@ std::vector<Quill> quills_of_a_row(const std::vector<Quill>& quills) {
 }
 
 namespace {
+// The label in `parts` (CV_32S, the region's box from `tl`) at the quill's free
+// end: the first non-zero one in its 3x3 neighbourhood, row by row; 0 for none.
+int part_at_free_end(const cv::Mat& parts, const Quill& q, const cv::Point2d& tl) {
+  const cv::Point e(int(std::lround(q.free_end.x - tl.x)), int(std::lround(q.free_end.y - tl.y)));
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+      if (const int l = parts.at<int>(std::clamp(e.y + dy, 0, parts.rows - 1), std::clamp(e.x + dx, 0, parts.cols - 1)))
+        return l;
+  return 0;
+}
+
 // Distance from p to the quill's line: the stem, and past its base on along it.
 double distance_to(const Quill& q, const cv::Point2d& p) {
   const cv::Point2d d = q.dir();
@@ -169,9 +178,7 @@ RowSplit split_by_quills(const Component& region, std::vector<Quill> quills, con
   std::vector<double> gaps;
   for (int k = 1; k < K; ++k)
     gaps.push_back((quills[std::size_t(k)].free_end - quills[std::size_t(k - 1)].free_end).dot(across));
-  std::vector<double> sorted_gaps = gaps;
-  std::nth_element(sorted_gaps.begin(), sorted_gaps.begin() + (K - 1) / 2, sorted_gaps.end());
-  const double median_gap = sorted_gaps[std::size_t((K - 1) / 2)];
+  const double median_gap = median(gaps);
   for (int k = 1; k < K; ++k)
     if (gaps[std::size_t(k - 1)] > kMaxGapRatio * median_gap)
       return {{}, "the gap between quills " + std::to_string(k) + " and " + std::to_string(k + 1) +
@@ -198,12 +205,7 @@ RowSplit split_by_quills(const Component& region, std::vector<Quill> quills, con
     cv::Mat parts;
     const int n = cv::connectedComponents(label == k + 1, parts, 8, CV_32S);
     if (n <= 2) continue;
-    const cv::Point e(std::clamp(int(std::lround(quills[std::size_t(k)].free_end.x - tl.x)), 0, parts.cols - 1),
-                      std::clamp(int(std::lround(quills[std::size_t(k)].free_end.y - tl.y)), 0, parts.rows - 1));
-    cv::Mat near_end = parts((cv::Rect(e - cv::Point(1, 1), cv::Size(3, 3))) & cv::Rect(0, 0, parts.cols, parts.rows));
-    double own_d = 0;
-    cv::minMaxLoc(near_end, nullptr, &own_d);
-    const int own = int(own_d);
+    const int own = part_at_free_end(parts, quills[std::size_t(k)], tl);
     for (int part = 1; part < n; ++part) {
       if (part == own) continue;
       std::vector<int> border(std::size_t(K) + 1, 0);
@@ -227,18 +229,11 @@ RowSplit split_by_quills(const Component& region, std::vector<Quill> quills, con
     cv::Mat mine = label == k + 1, parts, stats, centroids;
     // The part holding the quill's free end; a strip cut in two is not followed.
     const int n = cv::connectedComponentsWithStats(mine, parts, stats, centroids, 8, CV_32S);
-    const cv::Point e(int(std::lround(quills[std::size_t(k)].free_end.x - tl.x)),
-                      int(std::lround(quills[std::size_t(k)].free_end.y - tl.y)));
-    int own = 0;
-    for (int dy = -1; dy <= 1 && !own; ++dy)
-      for (int dx = -1; dx <= 1 && !own; ++dx) {
-        const cv::Point q(std::clamp(e.x + dx, 0, parts.cols - 1), std::clamp(e.y + dy, 0, parts.rows - 1));
-        own = parts.at<int>(q);
-      }
+    const int own = part_at_free_end(parts, quills[std::size_t(k)], tl);
     if (own == 0) return {{}, "a quill's own strip does not reach its calamus"};
     int rest = 0;
     for (int i = 1; i < n; ++i) if (i != own) rest += stats.at<int>(i, cv::CC_STAT_AREA);
-    if (rest > 0.25 * stats.at<int>(own, cv::CC_STAT_AREA))
+    if (rest > kMaxCutOffShare * stats.at<int>(own, cv::CC_STAT_AREA))
       return {{}, "the strip of the row around quill " + std::to_string(k + 1) + " falls into pieces"};
     const cv::Mat piece = parts == own;
     const cv::Rect box = cv::boundingRect(piece);
@@ -255,17 +250,15 @@ RowSplit split_by_quills(const Component& region, std::vector<Quill> quills, con
     area.push_back(c.area);
     out.pieces.push_back(std::move(c));
   }
-  std::vector<double> sorted = area;
-  std::nth_element(sorted.begin(), sorted.begin() + K / 2, sorted.end());
-  const double median = sorted[std::size_t(K / 2)];
+  const double median_area = median(area);
   for (int k = 0; k < K; ++k) {
-    if (area[std::size_t(k)] < kMinPieceShare * median) {
+    if (area[std::size_t(k)] < kMinPieceShare * median_area) {
       out.pieces.clear();
       out.why = "the strip around quill " + std::to_string(k + 1) + " is too small to be a feather";
       return out;
     }
     // An end strip far larger than the others holds a feather whose quill was not seen.
-    if (area[std::size_t(k)] > kMaxPieceShare * median) {
+    if (area[std::size_t(k)] > kMaxPieceShare * median_area) {
       out.pieces.clear();
       out.why = "the strip around quill " + std::to_string(k + 1) + " is larger than two feathers' share";
       return out;

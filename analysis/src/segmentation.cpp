@@ -21,26 +21,30 @@ namespace plumage::analysis {
 using namespace thresholds::segmentation;
 namespace {
 
+// Calls take(x, y) for every pixel of the frame border_frame_px wide along the
+// image's border (where the card's own colour, grain and texture are read).
+template <class Take>
+void for_border_frame(const cv::Size& size, Take take) {
+  const int b = border_frame_px(size.width, size.height);
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x)
+      if (y < b || y >= size.height - b || x < b || x >= size.width - b)
+        take(x, y);
+      else
+        x = size.width - b - 1;
+}
+
 // Median colour and luminance spread of a frame of pixels along the border.
 void border_statistics(const cv::Mat& bgr, cv::Vec3d& median, double& sigma) {
-  const int b = border_frame_px(bgr.cols, bgr.rows);
   std::vector<uchar> ch[3];
   std::vector<double> luma;
-  auto take = [&](int x, int y) {
+  for_border_frame(bgr.size(), [&](int x, int y) {
     const cv::Vec3b p = bgr.at<cv::Vec3b>(y, x);
     for (int c = 0; c < 3; ++c) ch[c].push_back(p[c]);
     luma.push_back(luma_bgr(p));
-  };
-  for (int y = 0; y < bgr.rows; ++y)
-    for (int x = 0; x < bgr.cols; ++x)
-      if (y < b || y >= bgr.rows - b || x < b || x >= bgr.cols - b)
-        take(x, y);
-      else
-        x = bgr.cols - b - 1;
+  });
   for (int c = 0; c < 3; ++c) median[c] = plumage::median(std::move(ch[c]));
-  const double m = plumage::median(luma);
-  for (double& v : luma) v = std::fabs(v - m);
-  sigma = 1.4826 * plumage::median(std::move(luma));  // MAD to a Gaussian sigma
+  sigma = mad_sigma(luma, plumage::median(luma));
 }
 
 // Low-contrast outlines: a feather part whose colour is the card's (a white
@@ -52,25 +56,19 @@ void border_statistics(const cv::Mat& bgr, cv::Vec3d& median, double& sigma) {
 // with a kTextureOpen disc (the band of gradient along every edge is thinner and
 // goes), join the feather of `labels` (CV_32S, 0 the card) they touch; a textured
 // patch that touches two feathers, or none, joins nothing (feathers never merge,
-// the card never becomes a feather). Returns how many pixels joined.
-int grow_into_texture(const cv::Mat& bgr, cv::Mat& labels) {
+// the card never becomes a feather). Only on mid-grey cards (the pale parts'
+// range): on white and black cards a feather's colour stands out from the card.
+void grow_into_texture(const cv::Mat& bgr, cv::Mat& labels) {
   cv::Mat grey, blur, hp, power;
   cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
   cv::blur(grey, blur, cv::Size(kTextureBlur, kTextureBlur));
   cv::subtract(grey, blur, hp, cv::noArray(), CV_32F);
   cv::multiply(hp, hp, hp);
   cv::boxFilter(hp, power, -1, cv::Size(kTextureWindow, kTextureWindow));  // the texture squared
-  const int b = border_frame_px(bgr.cols, bgr.rows);
   std::vector<double> frame;
-  for (int y = 0; y < bgr.rows; ++y)
-    for (int x = 0; x < bgr.cols; ++x)
-      if (y < b || y >= bgr.rows - b || x < b || x >= bgr.cols - b)
-        frame.push_back(std::sqrt(double(power.at<float>(y, x))));
-      else
-        x = bgr.cols - b - 1;
+  for_border_frame(bgr.size(), [&](int x, int y) { frame.push_back(std::sqrt(double(power.at<float>(y, x)))); });
   const double m = plumage::median(frame);
-  for (double& v : frame) v = std::fabs(v - m);
-  const double spread = 1.4826 * plumage::median(std::move(frame));
+  const double spread = mad_sigma(std::move(frame), m);
   const double level = std::max(m + kTextureSigmas * spread, double(kMinTextureLevels));
   const cv::Mat feather = labels > 0;
   cv::Mat textured = (power > level * level) & ~feather;
@@ -78,22 +76,14 @@ int grow_into_texture(const cv::Mat& bgr, cv::Mat& labels) {
                    cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(kTextureOpen, kTextureOpen)));
   cv::Mat patches;
   const int np = cv::connectedComponents(textured | feather, patches, 8, CV_32S);
-  // Per patch of textured-or-feather pixels: the one feather it holds, or -1 for several.
-  std::vector<int> holds(static_cast<std::size_t>(np), 0);
-  for (int y = 0; y < labels.rows; ++y) {
-    const int* l = labels.ptr<int>(y);
-    const int* pt = patches.ptr<int>(y);
-    for (int x = 0; x < labels.cols; ++x) {
-      if (!l[x]) continue;
-      int& h = holds[std::size_t(pt[x])];
-      h = h == 0 || h == l[x] ? l[x] : -1;
-    }
-  }
-  // A patch adds a part of a feather, at least kMinTexturePart of its area: slivers
-  // along an edge (a shadow, a neighbour's fringe) add nothing.
+  // Per patch of textured-or-feather pixels: the one feather it holds (-1 for
+  // several) and the textured pixels it would add; per feather, its area. A patch
+  // adds a part of a feather, at least kMinTexturePart of its area: slivers along
+  // an edge (a shadow, a neighbour's fringe) add nothing.
   double most = 0;
   cv::minMaxLoc(labels, nullptr, &most);
-  std::vector<int> area(std::size_t(most) + 1, 0), added(static_cast<std::size_t>(np), 0);
+  std::vector<int> holds(static_cast<std::size_t>(np), 0), added(static_cast<std::size_t>(np), 0);
+  std::vector<int> area(std::size_t(most) + 1, 0);
   for (int y = 0; y < labels.rows; ++y) {
     const int* l = labels.ptr<int>(y);
     const int* pt = patches.ptr<int>(y);
@@ -101,20 +91,21 @@ int grow_into_texture(const cv::Mat& bgr, cv::Mat& labels) {
     for (int x = 0; x < labels.cols; ++x) {
       ++area[std::size_t(std::max(0, l[x]))];
       if (t[x]) ++added[std::size_t(pt[x])];
+      if (!l[x]) continue;
+      int& h = holds[std::size_t(pt[x])];
+      h = h == 0 || h == l[x] ? l[x] : -1;
     }
   }
   for (int p = 1; p < np; ++p)
     if (holds[std::size_t(p)] > 0 && added[std::size_t(p)] < kMinTexturePart * area[std::size_t(holds[std::size_t(p)])])
       holds[std::size_t(p)] = 0;
-  int joined = 0;
   for (int y = 0; y < labels.rows; ++y) {
     int* l = labels.ptr<int>(y);
     const int* pt = patches.ptr<int>(y);
     const uchar* t = textured.ptr<uchar>(y);
     for (int x = 0; x < labels.cols; ++x)
-      if (t[x] && holds[std::size_t(pt[x])] > 0) l[x] = holds[std::size_t(pt[x])], ++joined;
+      if (t[x] && holds[std::size_t(pt[x])] > 0) l[x] = holds[std::size_t(pt[x])];
   }
-  return joined;
 }
 
 }  // namespace
@@ -187,7 +178,7 @@ cv::Mat label_with_pale_parts(const cv::Mat& bgr, cv::Mat& bin, double sigma, co
       for (int x = 0; x < grey.cols; x += kGrainStride)
         if (w[x] > 0) spread.push_back(std::fabs(d[x]));
     }
-    const double card_sigma = spread.empty() ? sigma : 1.4826 * median(std::move(spread));
+    const double card_sigma = spread.empty() ? sigma : mad_sigma(std::move(spread));
     level = std::max(kPaleLevels, kPaleGrainSigmas * card_sigma);
     if (round + 1 < kPaleRounds) not_card = bin | (lighter > kNearPaleShare * level);
   }

@@ -170,7 +170,7 @@ std::vector<double> robust_smooth(const std::vector<cv::Point2d>& path, int half
   std::vector<double> robust(n), resid(n);
   for (int round = 0; round < kSmoothRounds; ++round) {
     for (int i = 0; i < n; ++i) resid[i] = std::fabs(path[i].x - fit[i]);
-    const double c = kBiweight * std::max(1.0, 1.4826 * median(resid));
+    const double c = kBiweight * std::max(1.0, mad_sigma(resid));
     for (int i = 0; i < n; ++i) {
       const double u = resid[i] / c;
       robust[i] = u < 1 ? (1 - u * u) * (1 - u * u) : 0.0;

@@ -518,6 +518,8 @@ inline constexpr double kMaxRowSpread = 25.0;
 inline constexpr double kMinPieceShare = 0.35;
 // ... and at most this share of it: an end strip that large holds a neighbour whose quill was not seen; not tuned
 inline constexpr double kMaxPieceShare = 1.8;
+// a strip whose parts apart from the one holding its quill come to more than this share of that one is cut in two: the row is not followed; not tuned
+inline constexpr double kMaxCutOffShare = 0.25;
 // consecutive quills at most this many median gaps apart along the row: a wider gap is a quill not seen; synthetic rows are within 1.2
 inline constexpr double kMaxGapRatio = 1.6;
 

@@ -522,12 +522,11 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
     const bool hidden = hidden_stations > 0 && 2 * std::size_t(hidden_stations) >= v.width_hidden.size();
     auto width = hidden ? std::vector<glm::dvec2>{} : vane_widths(f.stations_t, v);
     if (width.empty()) {
-      out.warnings.push_back(side + (hidden ? " vane width: hidden under the feathers of its shingled row at " +
-                                                  std::to_string(hidden_stations) + " of " +
-                                                  std::to_string(v.width_hidden.size()) +
-                                                  " stations; used the default feather's profile "
-                                            : " vane width: no station is confident; used the default feather's profile ") +
-                             "scaled to the shaft length");
+      const std::string why = hidden ? "hidden under the feathers of its shingled row at " +
+                                           std::to_string(hidden_stations) + " of " +
+                                           std::to_string(v.width_hidden.size()) + " stations"
+                                     : "no station is confident";
+      out.warnings.push_back(side + " vane width: " + why + "; used the default feather's profile scaled to the shaft length");
       for (const auto& k : preset.left.width.knots())
         width.push_back({calamus_t + k.x * (1 - calamus_t), k.y * L / preset.shaft.length});
     }

@@ -80,12 +80,12 @@ void dump(const ojson& j, int indent, std::string& out) {
 
 ojson profile(const VaneProfile& v) {
   ojson j = {{"width_mm", v.width_mm},
-          {"width_confidence", v.width_confidence},
-          {"barb_angle_deg", v.barb_angle_deg},
-          {"barb_angle_confidence", v.barb_angle_confidence},
-          {"barb_spacing_mm", v.barb_spacing_mm},
-          {"barb_spacing_confidence", v.barb_spacing_confidence},
-          {"afterfeather_to_t", v.afterfeather_to_t}};
+             {"width_confidence", v.width_confidence},
+             {"barb_angle_deg", v.barb_angle_deg},
+             {"barb_angle_confidence", v.barb_angle_confidence},
+             {"barb_spacing_mm", v.barb_spacing_mm},
+             {"barb_spacing_confidence", v.barb_spacing_confidence},
+             {"afterfeather_to_t", v.afterfeather_to_t}};
   if (!v.width_hidden.empty()) j["width_hidden"] = v.width_hidden;  // only a shingled row's feather
   return j;
 }
