@@ -172,8 +172,9 @@ const Registration kExport{
         if (!global_options().quiet) {
           std::cout << "wrote " << out.string() << " (" << to_string(format)
                     << "): " << feather.count(CurveKind::Shaft) << " shaft, "
-                    << feather.count(CurveKind::Barb) << " barbs, " << feather.num_control_points()
-                    << " control points\n";
+                    << feather.count(CurveKind::Barb) << " barbs, ";
+          if (const std::size_t down = feather.count(CurveKind::Down)) std::cout << down << " down barbs, ";
+          std::cout << feather.num_control_points() << " control points\n";
           if (format == ExportFormat::Mitsuba)
             std::cout << "wrote " << mitsuba_scene_path(out).string() << " (Mitsuba 3 scene)\n";
         }

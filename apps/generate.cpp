@@ -1,6 +1,7 @@
 // `plumage generate`: species preset or params JSON -> feather.fcurves (+ preview).
 #include <iostream>
 #include <optional>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -44,6 +45,15 @@ void check_usage(const GenerateArgs& a, bool anything_else) {
   if (a.output.empty() && !a.preview.empty()) throw UsageError("--preview draws the curves written to -o: give -o too");
 }
 
+// "N barbs (left L, right R)", and how many of them are down barbs when any are.
+std::string barbs_text(const Feather& f) {
+  const std::size_t down = f.count(CurveKind::Down);
+  std::string t = std::to_string(f.count(CurveKind::Barb) + down) + " barbs (left " +
+                  std::to_string(f.count(VaneSide::Left)) + ", right " + std::to_string(f.count(VaneSide::Right));
+  if (down) t += "; " + std::to_string(down) + " of them down";
+  return t + ")";
+}
+
 // The feather a layout.json describes (docs/layout-format.md), its albedo texture
 // referenced relative to the curve file.
 int run_generate_from_layout(const GenerateArgs& a) {
@@ -61,8 +71,7 @@ int run_generate_from_layout(const GenerateArgs& a) {
   for (const auto& w : warnings) std::cerr << "warning: " << a.layout << ": feather " << f.id << ": " << w << "\n";
   if (!global_options().quiet) {
     std::cout << "wrote " << a.output << ": feather " << f.id << " of " << a.layout << " (seed " << a.seed
-              << "), 1 shaft + " << feather.count(CurveKind::Barb) << " barbs (left "
-              << feather.count(VaneSide::Left) << ", right " << feather.count(VaneSide::Right) << ")\n";
+              << "), 1 shaft + " << barbs_text(feather) << "\n";
     if (!a.preview.empty()) std::cout << "wrote " << a.preview << " (top view)\n";
   }
   return 0;
@@ -97,8 +106,7 @@ int run_generate(const GenerateArgs& a) {
 
   if (!global_options().quiet) {
     std::cout << "wrote " << a.output << ": " << params.name << " (seed " << a.seed << "), 1 shaft + "
-              << feather.count(CurveKind::Barb) << " barbs (left " << feather.count(VaneSide::Left) << ", right "
-              << feather.count(VaneSide::Right) << "), " << feather.num_control_points() << " control points\n";
+              << barbs_text(feather) << ", " << feather.num_control_points() << " control points\n";
     if (!a.preview.empty()) std::cout << "wrote " << a.preview << " (top view)\n";
   }
   return 0;

@@ -27,7 +27,7 @@ struct Range {
 };
 
 struct Summary {
-  std::size_t shafts = 0, barbs = 0, left = 0, right = 0, control_points = 0;
+  std::size_t shafts = 0, barbs = 0, down = 0, left = 0, right = 0, control_points = 0;  // barbs counts down barbs too
   Range points_per_barb, barb_length, barb_radius, shaft_radius;
   double shaft_length = 0;
   Bounds3 bounds;  // of the curve centrelines
@@ -55,6 +55,7 @@ Summary summarize(const Feather& f) {
       s.shaft_length = arc_length(line);
     } else {
       ++s.barbs;
+      s.down += c.kind == CurveKind::Down;
       (c.side == VaneSide::Left ? s.left : s.right) += 1;
       s.barb_length.add(arc_length(line));
       s.points_per_barb.add(double(c.points.size()));
@@ -89,7 +90,7 @@ void print_json(std::ostream& out, const std::string& file, const Feather& f, co
   j["units"] = f.units;
   j["source"] = f.provenance.source;
   j["seed"] = f.provenance.seed ? nlohmann::json(*f.provenance.seed) : nlohmann::json(nullptr);
-  j["curves"] = {{"shaft", s.shafts}, {"barbs", s.barbs}, {"left", s.left}, {"right", s.right}};
+  j["curves"] = {{"shaft", s.shafts}, {"barbs", s.barbs}, {"down", s.down}, {"left", s.left}, {"right", s.right}};
   j["control_points"] = s.control_points;
   if (!s.bounds.empty())
     j["bounds"] = {{"min", {s.bounds.lo.x, s.bounds.lo.y, s.bounds.lo.z}},
@@ -124,7 +125,9 @@ void print_text(std::ostream& out, const std::string& file, const Feather& f, co
   if (f.provenance.seed) out << ", seed " << *f.provenance.seed;
   out << "\n";
   row("curves") << s.shafts << " shaft, " << s.barbs << " barbs (" << s.left << " left, " << s.right
-                << " right)\n";
+                << " right";
+  if (s.down) out << "; " << s.down << " of them down";
+  out << ")\n";
   row("control pts") << s.control_points;
   if (s.barbs) out << " (" << num(s.points_per_barb.lo) << ".." << num(s.points_per_barb.hi) << " per barb)";
   out << "\n";

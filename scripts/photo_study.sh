@@ -84,13 +84,14 @@ for rc_file in sorted(glob.glob(os.path.join(out, "*.rc"))):
             why = arcs.get(f"F{f['id']}", "")  # counts.json: "no simple arc: ..." or "trace off: ..."
             over.append(f"F{f['id']} {s_ness[-1]:.1f}" + (f" ({why.split(':')[0]})" if why else ""))
         gen = open(os.path.join(out, f"{stem}.f{f['id']}.gen.txt")).read()
-        m = re.search(r"\(left (\d+), right (\d+)\)", gen)
+        m = re.search(r"\(left (\d+), right (\d+)[;)]", gen)
         if m: barbs += [int(m.group(1)), int(m.group(2))]
         for line in gen.splitlines():
             if "warning:" not in line: continue
             w = line.split(": ", 3)[-1]
             key = ("width: hidden in a row" if "shingled row" in w
                    else "downy base built loose" if "downy base" in w
+                   else "plume built as down barbs" if "a plume" in w
                    else "spacing: prior" if "used the prior" in w else "spacing: other vane" if "vane's" in w
                    else "angle raised (fanning)" if "fan apart" in w
                    else "angle raised (vane widens)" if "raised where" in w else "angle held" if "held back" in w

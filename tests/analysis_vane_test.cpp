@@ -2,11 +2,13 @@
 // present at a station where the photo's mask reaches past the rachis there. The
 // rachis narrows toward the tip, so a vane narrower than the quill is still
 // measured, with confidence, where the rachis beside it is thin. The downy base:
-// stations from the base whose texture at the barb scale is faint.
+// stations from the base whose texture at the barb scale is faint. Plumes: both
+// vanes open, the card between loose barbs.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
+#include <iostream>
 #include <unistd.h>
 
 #include "plumage/common/image.h"
@@ -104,4 +106,33 @@ TEST(AnalysisVane, NoDownyBaseWhereThePhotoDoesNotResolveBarbs) {
   ASSERT_EQ(B.layout.feathers.size(), 1u);
   EXPECT_GT(B.layout.feathers[0].left.afterfeather_to_t, 0.0);
   EXPECT_GT(B.layout.feathers[0].right.afterfeather_to_t, 0.0);
+}
+
+// A plume (docs/analysis.md, "Plumes: an open vane"): loose, curling barbs with the
+// card between them over most of the vane, on a light and on a dark card, is
+// downy from base to tip on both sides; the same feather drawn closed, or with
+// barbs that leave only a tenth of the vane open, is not.
+TEST(AnalysisVane, APlumeIsDownyFromBaseToTipAndAClosedVaneIsNot) {
+  for (const bool dark : {false, true}) {
+    SCOPED_TRACE(dark ? "dark card" : "light card");
+    for (const double open : {0.0, 0.1, 0.8}) {
+      SyntheticFeather F;
+      F.dark_background = dark;
+      F.plume_open = open;
+      F.spacing = 16;  // loose barbs lie farther apart than a vane's (1.6 mm here)
+      const PhotoAnalysis A = analyse_drawn(F, 0.1);
+      ASSERT_EQ(A.layout.feathers.size(), 1u) << "open " << open;
+      const FeatherLayout& f = A.layout.feathers[0];
+      std::cerr << "  open " << open << ": open share " << f.left.open_share << " / " << f.right.open_share << "\n";
+      if (open >= 0.5) {
+        EXPECT_GE(std::min(f.left.open_share, f.right.open_share), 0.4) << "open " << open;  // kPlumeOpenShare
+        EXPECT_EQ(f.left.afterfeather_to_t, 1.0) << "open " << open;
+        EXPECT_EQ(f.right.afterfeather_to_t, 1.0) << "open " << open;
+      } else {
+        EXPECT_LT(std::max(f.left.open_share, f.right.open_share), 0.3) << "open " << open;
+        EXPECT_LT(f.left.afterfeather_to_t, 1.0) << "open " << open;
+        EXPECT_LT(f.right.afterfeather_to_t, 1.0) << "open " << open;
+      }
+    }
+  }
 }

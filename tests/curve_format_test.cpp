@@ -204,7 +204,9 @@ std::vector<Malformed> malformed_files() {
       {"two shafts", with_line(14, "curve shaft none bspline 4 root 0.5"), 14, 7,
        "second shaft (the first is on line 9)"},
       {"unknown kind", with_line(14, "curve quill left bspline 4 root 0.5"), 14, 7,
-       "curve kind: expected 'shaft' or 'barb', found 'quill'"},
+       "curve kind: expected 'shaft', 'barb' or 'down', found 'quill'"},
+      {"down barb without a side", with_line(14, "curve down none bspline 4 root 0.5"), 14, 12,
+       "a down barb belongs to a vane: its side must be 'left' or 'right'"},
       {"unknown side", with_line(14, "curve barb up bspline 4 root 0.5"), 14, 12,
        "vane side: expected 'none', 'left' or 'right', found 'up'"},
       {"unknown basis", with_line(14, "curve barb left bezier 4 root 0.5"), 14, 17,
@@ -241,6 +243,17 @@ void expect_bit_identical(const Feather& a, const Feather& b) {
       ASSERT_EQ(std::bit_cast<std::uint32_t>(pa[k].radius), std::bit_cast<std::uint32_t>(pb[k].radius));
     }
   }
+}
+
+// What parse_fcurves says of `text` read as `name`: its error message, or
+// "accepted".
+std::string parse_error(const std::string& text, const std::string& name) {
+  try {
+    parse_fcurves(text, name);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "accepted";
 }
 
 }  // namespace
@@ -344,14 +357,7 @@ TEST(CurveFormat, MedullaRecordReadsWritesAndIsChecked) {
   EXPECT_EQ(f.medulla.sigma_a, glm::vec3(0, 0.1f, 0));
   EXPECT_NE(format_fcurves(f).find("medulla 0.7 8 8 9 0 0.1 0\n"), std::string::npos);
   EXPECT_EQ(format_fcurves(Feather{}).find("medulla"), std::string::npos);
-  const auto error_of = [&](const std::string& record) {
-    try {
-      parse_fcurves(head + record + tail, "m.fcurves");
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
-  };
+  const auto error_of = [&](const std::string& record) { return parse_error(head + record + tail, "m.fcurves"); };
   EXPECT_NE(error_of("medulla 1 8 8 8 0 0 0\n").find("m.fcurves:3:9: medulla RATIO: must be in [0, 1)"), std::string::npos)
       << error_of("medulla 1 8 8 8 0 0 0\n");
   EXPECT_NE(error_of("medulla 0.5 8 -1 8 0 0 0\n").find("medulla SIGMA_S"), std::string::npos);
@@ -360,6 +366,39 @@ TEST(CurveFormat, MedullaRecordReadsWritesAndIsChecked) {
   Feather bad;
   bad.medulla.ratio = 0.5f;
   bad.medulla.sigma_a.y = std::nanf("");
+  EXPECT_THROW(format_fcurves(bad), Error);
+}
+
+TEST(CurveFormat, DownBarbsAndTheirCoverReadWriteAndAreChecked) {
+  // Down barbs (docs/curve-format.md, "Down"): their kind and the feather's cover
+  // read and written back; the cover written only when not 1, and refused outside
+  // (0, 1] with the place named.
+  const std::string head = "fcurves 1\nunits mm\n";
+  std::string curve = "curves 1\ncurve down right bspline 4 root 0.3\n";
+  for (int k = 0; k < 4; ++k) curve += std::to_string(k) + " 1 0 0.25 0 0 1\n";
+  const Feather f = parse_fcurves(head + "down cover 0.6\n" + curve + "end\n", "d.fcurves");
+  ASSERT_EQ(f.curves.size(), 1u);
+  EXPECT_EQ(f.curves[0].kind, CurveKind::Down);
+  EXPECT_EQ(f.curves[0].side, VaneSide::Right);
+  EXPECT_EQ(f.count(CurveKind::Down), 1u);
+  EXPECT_EQ(f.count(CurveKind::Barb), 0u);
+  EXPECT_FLOAT_EQ(f.down_cover, 0.6f);
+  const std::string text = format_fcurves(f);
+  EXPECT_NE(text.find("down cover 0.6\n"), std::string::npos);
+  EXPECT_NE(text.find("curve down right bspline 4 root 0.3\n"), std::string::npos);
+  EXPECT_EQ(parse_fcurves(text, "d.fcurves"), f);
+  EXPECT_EQ(format_fcurves(Feather{}).find("down cover"), std::string::npos);
+  const auto error_of = [&](const std::string& record) {
+    return parse_error(head + record + curve + "end\n", "d.fcurves");
+  };
+  EXPECT_NE(error_of("down cover 0\n").find("d.fcurves:3:12: down cover: must be in (0, 1]"), std::string::npos)
+      << error_of("down cover 0\n");
+  EXPECT_NE(error_of("down cover 1.5\n").find("down cover"), std::string::npos);
+  EXPECT_NE(error_of("down fill 0.5\n").find("d.fcurves:3:6: down: expected 'cover', found 'fill'"), std::string::npos)
+      << error_of("down fill 0.5\n");
+  EXPECT_NE(error_of("down cover 0.5\ndown cover 0.5\n").find(":4:"), std::string::npos);
+  Feather bad = f;
+  bad.down_cover = 0.0f;
   EXPECT_THROW(format_fcurves(bad), Error);
 }
 

@@ -130,6 +130,13 @@ TEST_P(ExportSceneTest, IsWhatTheRendererRenders) {
           }
           for (std::size_t i = 1; i < r.size(); ++i) EXPECT_LE(r[i], r[i - 1]);  // never widens toward the tip
           for (float x : r) widest = std::max(widest, x);
+        } else if (c.kind == CurveKind::Down) {  // the afterfeather's down barbs: their own radius
+          EXPECT_EQ(render_radii(feather, c), [&] {
+            std::vector<float> own;
+            for (const ControlPoint& p : c.points) own.push_back(p.radius);
+            return own;
+          }());
+          for (const ControlPoint& p : c.points) widest = std::max(widest, p.radius);
         }
       EXPECT_EQ(widest, scene.max_barb_radius());
 
@@ -237,7 +244,7 @@ TEST(ExportScene, TwoRadiusWidthWhenTheVaneHasNoRibbonWidth) {
   const Scene scene(feather, so);
   float widest = 0;
   for (const Curve& c : feather.curves)
-    if (c.kind == CurveKind::Barb)
+    if (c.kind != CurveKind::Shaft)  // barbs and down barbs (the rock dove's afterfeather)
       for (std::size_t i = 0; i < c.points.size(); ++i) {
         EXPECT_EQ(render_radii(feather, c)[i], c.points[i].radius);
         widest = std::max(widest, c.points[i].radius);

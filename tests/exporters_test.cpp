@@ -130,7 +130,7 @@ std::vector<PbrtStatement> parse_pbrt(const std::string& text) {
 // own radius at the tip; a one-segment barb at W / 2 throughout.
 float drawn_radius(const Feather& f, const Curve& c, std::size_t k) {
   const ControlPoint& p = c.points[k];
-  if (c.kind == CurveKind::Shaft) return p.radius;
+  if (c.kind != CurveKind::Barb) return p.radius;  // the shaft and down barbs keep their own radii
   const float w = (c.side == VaneSide::Right ? f.right : f.left).ribbon_width;
   if (!(w > 0)) return p.radius;
   float before = 0, total = 0;
@@ -289,8 +289,8 @@ PbrtScene check_pbrt(const std::string& text, const Feather& f, bool v4) {
     EXPECT_NEAR(w0, full_width(0), 1e-6 * full_width(0) + 1e-38);
     const double end = c.kind == CurveKind::Barb ? full_width(0) : full_width(n - 3);
     EXPECT_NEAR(w1, end, 1e-6 * end + 1e-38);
-    // Hair mode's barbs face the ray ("flat"); the shaft is round.
-    EXPECT_EQ(s.params.at("type").values.at(0), c.kind == CurveKind::Shaft ? "cylinder" : "flat");
+    // Hair mode's barbs face the ray ("flat"); the shaft and down barbs are round.
+    EXPECT_EQ(s.params.at("type").values.at(0), c.kind == CurveKind::Barb ? "flat" : "cylinder");
     EXPECT_FALSE(s.params.count("N"));
   }
   EXPECT_EQ(curve, f.curves.size());

@@ -143,6 +143,7 @@ inline Feather random_feather(std::mt19937_64& rng) {
     p->azimuth_deg = std::nextafter(90.0f, 0.0f) * (2.0f * unit_interval(rng) - 1.0f);
     p->hooked_fraction = unit_interval(rng);
   }
+  if (rng() % 2) f.down_cover = std::max(unit_interval(rng), std::nextafter(0.0f, 1.0f));  // (0, 1]
   const bool shaft = rng() % 4 != 0;
   const int barbs = int(rng() % 12);
   for (int i = 0; i < int(shaft) + barbs; ++i) {
@@ -151,6 +152,7 @@ inline Feather random_feather(std::mt19937_64& rng) {
       c.kind = CurveKind::Shaft;
     } else {
       c.side = rng() % 2 ? VaneSide::Left : VaneSide::Right;
+      if (rng() % 4 == 0) c.kind = CurveKind::Down;
     }
     c.root = unit_interval(rng);
     const int n = 4 + int(rng() % 9);

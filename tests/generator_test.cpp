@@ -103,6 +103,49 @@ TEST(Generator, BarbCountIsExact) {
   EXPECT_EQ(f.count(VaneSide::Left), 37u);
 }
 
+// Afterfeather barbs are down barbs (docs/generator.md): exactly the barbs rooted in
+// the basal `fraction` of the vane, at the afterfeather's radius (narrowing to a
+// quarter at the tip), with the feather's
+// down cover; the rest keep the barb radius; a fraction of 1 is a plume, all down.
+TEST(Generator, AfterfeatherBarbsAreDownBarbsAndAFractionOfOneIsAPlume) {
+  FeatherParams p = default_feather_params();
+  p.left.barbs = p.right.barbs = 60;
+  p.afterfeather.enabled = true;
+  p.afterfeather.fraction = 0.25;
+  p.afterfeather.radius = 0.4;
+  p.afterfeather.cover = 0.45;
+  const Feather f = build_feather(p, 3);
+  const double vane_start = p.shaft.calamus_length / p.shaft.length;
+  std::size_t down = 0;
+  for (const Curve& c : f.curves) {
+    if (c.kind == CurveKind::Shaft) continue;
+    const double x = (c.root - vane_start) / (1.0 - vane_start);  // where along the vane it leaves the shaft
+    if (c.kind == CurveKind::Down) {
+      ++down;
+      EXPECT_LT(x, 0.25 + 1e-3);
+      EXPECT_FLOAT_EQ(c.points.front().radius, 0.4f);  // narrowing to a quarter at the tip
+      EXPECT_NEAR(c.points.back().radius, 0.1f, 1e-6f);
+      for (std::size_t k = 1; k < c.points.size(); ++k) EXPECT_LE(c.points[k].radius, c.points[k - 1].radius);
+    } else {
+      EXPECT_GT(x, 0.25 - 1e-3);
+      EXPECT_LE(c.points[1].radius, float(p.barb.radius_root) + 1e-6f);
+    }
+  }
+  // A quarter of 60 barbs per side leave the shaft in the basal quarter (+-1 for jitter-free rounding).
+  EXPECT_NEAR(double(down), 30.0, 2.0);
+  EXPECT_FLOAT_EQ(f.down_cover, 0.45f);
+
+  p.afterfeather.fraction = 1.0;
+  const Feather plume = build_feather(p, 3);
+  EXPECT_EQ(plume.count(CurveKind::Barb), 0u);
+  EXPECT_EQ(plume.count(CurveKind::Down), 120u);
+
+  p.afterfeather.enabled = false;
+  const Feather closed = build_feather(p, 3);
+  EXPECT_EQ(closed.count(CurveKind::Down), 0u);
+  EXPECT_EQ(closed.down_cover, 1.0f);
+}
+
 TEST(Generator, BarbsStartOnTheShaftAtTheirRoot) {
   auto cases = all_presets();
   cases.push_back(busy_params());
@@ -132,7 +175,7 @@ TEST(Generator, NeighbouringBarbsNeverCrossInTheVaneDomain) {
   extreme.left.barbs = extreme.right.barbs = 2000;
   extreme.jitter = {30, 0.9};
   extreme.splits = {100, 5, 50, 1.0};
-  extreme.afterfeather = {true, 0.9, 50, 50, 20};
+  extreme.afterfeather = {true, 1.0, 50, 50, 20, 5, 1};
   cases.push_back(extreme);
   for (const auto& p : cases) {
     const FeatherBuild b = build_feather_detailed(p, 5);
@@ -338,7 +381,9 @@ TEST(Generator, RandomValidParametersKeepEveryInvariant) {
     }
     p.barb.control_points = 4 + int(r.uniform() * 20);
     p.surface = {r.uniform(-1, 1), r.uniform(-180, 180), 4 + int(r.uniform() * 40), 2 + int(r.uniform() * 10)};
-    p.afterfeather = {r.uniform() < 0.5, r.uniform(0, 0.9), r.uniform(0, 50), r.uniform(0, 50), r.uniform(0, 20)};
+    p.afterfeather = {r.uniform() < 0.5, r.uniform(0, 1),       r.uniform(0, 50),
+                      r.uniform(0, 50),  r.uniform(0, 20),      r.uniform(0.001, 5),
+                      r.uniform(0.01, 1)};
     p.splits = {int(r.uniform() * 10), std::nullopt, r.uniform(0, 50), r.uniform(0.01, 1)};
     p.jitter = {r.uniform(0, 30), r.uniform(0, 0.9)};
     ASSERT_NO_THROW(validate(p)) << trial;

@@ -103,7 +103,7 @@ std::string check_feather(const FeatherParams& p, const Feather& f) {
     const VaneParams& vane = p.vane(side);
     std::vector<std::vector<glm::dvec2>> barbs;
     for (const Curve& c : f.curves) {
-      if (c.kind != CurveKind::Barb || c.side != side) continue;
+      if (c.kind == CurveKind::Shaft || c.side != side) continue;  // barbs and down barbs alike
       const BSpline3 b = spline(c);
       const std::vector<glm::dvec2> line = polyline(b, 24);
       const std::string id = std::string(side == VaneSide::Right ? "right" : "left") + " barb " +

@@ -3,6 +3,7 @@
 // eye in data/photo-study/counts.json. Skipped when the photos are absent.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
@@ -48,9 +49,24 @@ TEST(PhotoStudy, EveryPhotoIsAnalysed) {
     // A downy base only on the pink feather, the one photo that resolves barbs
     // and shows its fluffy base (docs/analysis.md, "Downy base"); on the sheets,
     // where barbs are not resolved, none is looked for.
+    // Plumes (both vanes open, docs/analysis.md "Plumes: an open vane"): the blue
+    // jay's two white downy plumes, nothing else; they are downy to the tip.
     int downy = 0;
-    for (const auto& f : A.layout.feathers) downy += (f.left.afterfeather_to_t > 0) + (f.right.afterfeather_to_t > 0);
+    std::vector<int> plumes;
+    for (const auto& f : A.layout.feathers) {
+      const bool plume = std::min(f.left.open_share, f.right.open_share) >= 0.4;  // kPlumeOpenShare
+      if (plume) {
+        plumes.push_back(f.id);
+        EXPECT_EQ(f.left.afterfeather_to_t, 1.0) << name << " F" << f.id;
+        EXPECT_EQ(f.right.afterfeather_to_t, 1.0) << name << " F" << f.id;
+        continue;
+      }
+      downy += (f.left.afterfeather_to_t > 0) + (f.right.afterfeather_to_t > 0);
+    }
     EXPECT_EQ(downy, name == "pink-contour-feather.jpg" ? 2 : 0) << name;
+    const std::vector<int> want_plumes =
+        name == "blue-jay-feather-sheet.jpg" ? std::vector<int>{16, 25} : std::vector<int>{};
+    EXPECT_EQ(plumes, want_plumes) << name;
     // Rows reported by their lines running across them: the robin's four rows of
     // downy tufts whose tips merge (docs/analysis.md, "Sheets"), nothing else.
     std::vector<int> across;

@@ -3,11 +3,14 @@
 // bad feathers are refused with a plumage::Error.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
+#include <string>
 
 #include "plumage/common/error.h"
 #include "plumage/renderer/fibre_frame.h"
 #include "plumage/renderer/scene.h"
+#include "plumage/renderer/shading_mode.h"
 #include "render_test_feather.h"
 
 using namespace plumage;
@@ -56,6 +59,45 @@ TEST(RenderScene, RoundShaftHitGivesOffsetFromGeometry) {
     // Seen from +Z with the tangent along +X, the frame's y is -Y x ... = +Y.
     EXPECT_NEAR(ff.frame.b.y, 1.0f, 1e-5f);
     EXPECT_NEAR(ff.h, off, 0.01f) << "offset " << off;
+  }
+}
+
+// A down barb (docs/curve-format.md, "Down") is a round tube its fibres fill to the
+// feather's down cover, in every mode: a ray through it meets it with probability
+// 1 - (1 - cover)^2 (its entry and its exit), intersection and occlusion agree ray
+// by ray, and a vane without pennaceous barbs needs no substructure parameters.
+TEST(RenderScene, DownBarbsAreTubesTheirFibresFillToTheCover) {
+  const float r = 0.5f;
+  for (const float cover : {1.0f, 0.6f, 0.25f}) {
+    Feather f;
+    f.down_cover = cover;
+    Curve c = straight_curve(CurveKind::Down, {0, 0, 0}, 5, r);
+    c.side = VaneSide::Right;
+    f.curves.push_back(c);
+    for (const ShadingMode mode : {ShadingMode::Hair, ShadingMode::Substructure}) {
+      SCOPED_TRACE("cover " + std::to_string(cover) + ", " + to_string(mode));
+      SceneOptions options;
+      options.mode = mode;
+      const Scene scene(f, options);
+      std::mt19937 rng(7);
+      std::uniform_real_distribution<float> along(-1.5f, 1.5f), across(-0.3f * r, 0.3f * r);
+      const int n = 4000;
+      int hits = 0, disagree = 0;
+      for (int i = 0; i < n; ++i) {
+        const Ray ray = down_ray(along(rng), across(rng));
+        SurfaceHit hit;
+        const bool found = scene.intersect(ray, hit);
+        if (found) {
+          ++hits;
+          EXPECT_EQ(hit.kind, HitKind::Down);
+        }
+        disagree += scene.occluded(ray) != found;
+      }
+      EXPECT_EQ(disagree, 0);
+      const double p = 1.0 - (1.0 - cover) * (1.0 - cover);
+      const double sigma = std::sqrt(p * (1.0 - p) / n);
+      EXPECT_NEAR(double(hits) / n, p, 4.0 * sigma + 1e-9);
+    }
   }
 }
 

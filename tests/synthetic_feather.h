@@ -54,6 +54,10 @@ struct SyntheticFeather {
   // boundary between a brown and a blue vane or a bar's edge does; drawn only
   // where it is at least decoy_gap px from the rachis. 0: none.
   double decoy_from = 0, decoy_to = 0, decoy_bulge = 0, decoy_gap = 0;
+  // A plume: over this share of each barb period the card shows between the
+  // barbs (0: a closed vane), each barb curling plume_curl px to either side
+  // (a wave of about a third of the vane's width along it).
+  double plume_open = 0, plume_curl = 4;
 
   glm::dvec2 dir() const { return {std::cos(dir_deg * kPi / 180), std::sin(dir_deg * kPi / 180)}; }
   glm::dvec2 right() const { return {-dir().y, dir().x}; }  // feather +X, tip up
@@ -68,7 +72,8 @@ struct SyntheticFeather {
   }
   int wide_side() const { return w_right >= w_left ? 1 : -1; }
   // 0 outside, 1 vane, 2 shaft, 3 fringe, 4 cast shadow (outside the feather),
-  // 5 the decoy line; and the barb brightness factor.
+  // 5 the decoy line, 6 the card between a plume's barbs (inside its outline);
+  // and the barb brightness factor.
   int classify(glm::dvec2 p, double& shade) const {
     const glm::dvec2 d = p - calamus;
     const double y = glm::dot(d, dir()), x = glm::dot(d, right());
@@ -85,7 +90,15 @@ struct SyntheticFeather {
       const double off = decoy_bulge * std::sin(kPi * u);
       if (std::fabs(off) >= decoy_gap && std::fabs(x - off) <= 0.5 * shaft_width) return 5;
     }
-    const double phase = (y - std::fabs(x) / std::tan(theta_deg * kPi / 180)) / spacing;
+    double phase = (y - std::fabs(x) / std::tan(theta_deg * kPi / 180)) / spacing;
+    if (plume_open > 0) {
+      // Loose barbs: lines (1 - plume_open) of a period wide that wave along
+      // themselves; the card between them (class 6, drawn as the card).
+      phase += plume_curl / spacing * std::sin(2 * kPi * std::fabs(x) / std::max(0.3 * hw, 1.0));
+      const double f = phase - std::floor(phase);
+      if (std::min(f, 1.0 - f) > 0.5 * (1.0 - plume_open)) return 6;
+      return 1;
+    }
     const bool downy = (downy_side == 0 || downy_side == side) &&
                        y < vane_start() + downy_to * (length - vane_start());
     const double c = downy ? downy_contrast * barb_contrast : barb_contrast;
@@ -108,7 +121,7 @@ struct SyntheticFeather {
     double shade;
     cls = classify(p, shade);
     const double a = along(p.x, p.y);
-    return cls == 0   ? bg
+    return cls == 0 || cls == 6 ? bg
            : cls == 2 ? (calamus_colour && a < vane_start() ? *calamus_colour : rachis)
            : cls == 5 ? rachis
            : cls == 3 ? glm::mix(vane, glm::vec3(1.f), 0.6f)

@@ -412,6 +412,18 @@ void analyze_feather(const Photo& photo, const Segmentation& seg, const Componen
       profile->afterfeather_to_t = measure->afterfeather_to_t;
     }
   }
+  // A plume: both vanes open, the card seen between loose barbs from base to tip
+  // (docs/analysis.md, "Plumes: an open vane"); the whole feather is downy.
+  const double open_left = vane_open_share(photo.bgr, seg.background_bgr, seg.card_sigma, shaft_px, vm.t, vm.left, -1);
+  const double open_right = vane_open_share(photo.bgr, seg.background_bgr, seg.card_sigma, shaft_px, vm.t, vm.right, +1);
+  f.left.open_share = open_left;
+  f.right.open_share = open_right;
+  if (std::min(open_left, open_right) >= kPlumeOpenShare) {
+    for (auto [measure, profile] : {std::pair{&vm.left, &f.left}, std::pair{&vm.right, &f.right}}) {
+      measure->downy.assign(vm.t.size(), 1);
+      measure->afterfeather_to_t = profile->afterfeather_to_t = 1.0;
+    }
+  }
   clock.lap("vanes");
   f.touches_border = comp.touches_border;
   if (comp.touches_border)

@@ -428,6 +428,7 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   Segmentation seg;
   double sigma = 0;
   border_statistics(bgr, seg.background_bgr, sigma);
+  seg.card_sigma = sigma;
   const cv::Vec3d& bg = seg.background_bgr;
   seg.dark_background = luma_bgr(bg) < kDarkBackgroundLuma;
 

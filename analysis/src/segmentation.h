@@ -43,6 +43,7 @@ struct Segmentation {
   bool dark_background = false;
   cv::Vec3d background_bgr;         // median border colour
   double threshold = 0;             // on the colour distance to the background
+  double card_sigma = 0;            // the card's grain: MAD sigma of the border frame's luma
   cv::Mat foreground;               // CV_8U, everything above threshold (before filtering)
   std::vector<Component> feathers;  // sorted left to right
 };

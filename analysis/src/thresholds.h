@@ -487,6 +487,18 @@ inline constexpr std::size_t kDownyMinStations = 2;
 // a downy run whose last station is at t >= this is half the feather, not a base, and is dropped; docs "Downy base"
 inline constexpr double kDownyMaxEndT = 0.5;
 
+// --- open vanes, plumes (vane_open_share; docs/analysis.md "Plumes: an open vane")
+// a pixel is the card's when no channel differs from the card's colour by more than this x the card's grain (MAD sigma); docs "Plumes"
+inline constexpr double kOpenCardSigmas = 3.0;
+// ... or than this many grey levels, on a card without grain; docs "Plumes"
+inline constexpr double kOpenMinLevels = 4.0;
+// the vane is read from this share of the side's width out (past the shaft and its shading) ...; docs "Plumes"
+inline constexpr double kOpenFromWidth = 0.15;
+// ... to this share (short of the ragged edge, where every vane lets the card through); docs "Plumes"
+inline constexpr double kOpenToWidth = 0.85;
+// a feather is a plume when both sides' open share is at least this: shared photos' plumes (blue-jay F16, F25) 0.73-0.92, every other feather's lesser side <= 0.22; drawn plumes 0.43-0.48 (blur narrows the gaps); docs "Plumes"
+inline constexpr double kPlumeOpenShare = 0.4;
+
 }  // namespace plumage::analysis::thresholds::vane
 
 namespace plumage::analysis::thresholds::quills {

@@ -294,6 +294,32 @@ void find_downy_base(SideMeasure& S, const std::vector<double>& t, double period
   S.afterfeather_to_t = 0.5 * (t[k - 1] + t[k]);
 }
 
+double vane_open_share(const cv::Mat& bgr, const cv::Vec3d& card_bgr, double card_sigma, const BSpline2& shaft_px,
+                       const std::vector<double>& t, const SideMeasure& measure, int side) {
+  const double level = std::max(kOpenCardSigmas * card_sigma, kOpenMinLevels);
+  std::size_t open = 0, read = 0;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    const double w = measure.width_px[i];
+    if (!(w > 0)) continue;
+    const glm::dvec2 C = shaft_px.eval(t[i]);
+    const glm::dvec2 d = shaft_px.deriv(t[i]);
+    if (!(glm::length(d) > 0)) continue;
+    const glm::dvec2 T = glm::normalize(d);
+    const glm::dvec2 N = double(side) * glm::dvec2(-T.y, T.x);  // the feather's +X side is (-T.y, T.x)
+    for (double r = kOpenFromWidth * w; r <= kOpenToWidth * w; r += 1.0) {
+      const glm::dvec2 P = C + r * N;
+      const int x = int(std::lround(P.x)), y = int(std::lround(P.y));
+      if (x < 0 || y < 0 || x >= bgr.cols || y >= bgr.rows) continue;
+      const cv::Vec3b p = bgr.at<cv::Vec3b>(y, x);
+      bool card = true;
+      for (int c = 0; c < 3; ++c) card = card && std::abs(double(p[c]) - card_bgr[c]) <= level;
+      open += card;
+      ++read;
+    }
+  }
+  return read ? double(open) / double(read) : 0.0;
+}
+
 VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& f, const BSpline2& shaft,
                           double shaft_width_px, int stations) {
   // Unroll only as far out as the outline reaches from the shaft.

@@ -12,6 +12,7 @@
 namespace plumage::analysis {
 
 using thresholds::vane::kDownyTexture;
+using thresholds::vane::kPlumeOpenShare;
 
 struct SideMeasure {
   std::vector<double> width_px, width_conf;
@@ -37,5 +38,13 @@ VaneMeasure measure_vanes(const cv::Mat& bgr, const Component& feather, const BS
 // barbs `period_px` apart: the run of stations from the base whose fine texture
 // is under kDownyTexture of the vane's; sets side.downy and side.afterfeather_to_t.
 void find_downy_base(SideMeasure& side, const std::vector<double>& t, double period_px);
+// How open a side's vane is (docs/analysis.md, "Plumes: an open vane"): the share
+// of its pixels, from kOpenFromWidth to kOpenToWidth of the measured width at each
+// station, whose colour is the card's (no channel farther from `card_bgr` than
+// kOpenCardSigmas x `card_sigma`, or kOpenMinLevels): the card seen between loose
+// barbs. A closed vane lets it through only at splits. `side` is -1 for the left
+// (-X) side, +1 for the right; 0 when the side has no width to read.
+double vane_open_share(const cv::Mat& bgr, const cv::Vec3d& card_bgr, double card_sigma, const BSpline2& shaft_px,
+                       const std::vector<double>& t, const SideMeasure& measure, int side);
 
 }  // namespace plumage::analysis

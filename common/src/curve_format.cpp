@@ -72,6 +72,8 @@ void validate_feather(const Feather& f) {
   if (!finite3(f.medulla.sigma_s) || !finite3(f.medulla.sigma_a) || f.medulla.sigma_s.x < 0 || f.medulla.sigma_s.y < 0 ||
       f.medulla.sigma_s.z < 0 || f.medulla.sigma_a.x < 0 || f.medulla.sigma_a.y < 0 || f.medulla.sigma_a.z < 0)
     fail("medulla coefficients must be finite and non-negative");
+  if (!(f.down_cover > 0 && f.down_cover <= 1))
+    fail("down cover must lie in (0, 1] (the share of a down barb's tube its fibres fill)");
   if (!f.albedo.texture.empty()) {
     const glm::vec2 a = f.albedo.rect_min, b = f.albedo.rect_max;
     if (!std::isfinite(a.x) || !std::isfinite(a.y) || !std::isfinite(b.x) || !std::isfinite(b.y) ||
@@ -129,7 +131,7 @@ class Reader : LineReader {
   void parse_trailer();
 
   // Records seen (line numbers, 0 = not yet), to reject duplicates and check required ones.
-  int shaft_colour_line_ = 0, scale_line_ = 0, medulla_line_ = 0, units_line_ = 0, source_line_ = 0, seed_line_ = 0,
+  int shaft_colour_line_ = 0, scale_line_ = 0, medulla_line_ = 0, down_line_ = 0, units_line_ = 0, source_line_ = 0, seed_line_ = 0,
       color_line_ = 0, texture_line_ = 0, left_line_ = 0, right_line_ = 0, curves_line_ = 0, shaft_line_ = 0,
       last_curve_line_ = 0;
   std::uint64_t declared_curves_ = 0;
@@ -285,11 +287,12 @@ void Reader::parse_record(Feather& f) {
     fail(key, "unexpected numbers outside a curve: control points follow a 'curve' record");
   }
   const bool header =
-      k == "units" || k == "source" || k == "seed" || k == "albedo" || k == "medulla" || k == "substructure" ||
+      k == "units" || k == "source" || k == "seed" || k == "albedo" || k == "medulla" || k == "down" ||
+      k == "substructure" ||
       k == "curves";
   if (!header)
     fail(key, "unknown record '" + std::string(k) +
-                  "' (expected units, source, seed, albedo, medulla, substructure, curves, curve or end)");
+                  "' (expected units, source, seed, albedo, medulla, down, substructure, curves, curve or end)");
   if (in_curves_)
     fail(key, "header record '" + std::string(k) + "' after the first curve: move it above the curves");
   if (k == "units") {
@@ -309,6 +312,11 @@ void Reader::parse_record(Feather& f) {
     f.provenance.seed = unsigned_int(tok_[1], "seed");
   } else if (k == "albedo") {
     parse_albedo(f);
+  } else if (k == "down") {
+    once(down_line_);
+    expect_count(3, "down cover C");
+    if (tok_[1].text != "cover") fail(tok_[1], "down: expected 'cover', found '" + std::string(tok_[1].text) + "'");
+    f.down_cover = ranged_float(tok_[2], "down cover", std::nextafter(0.0f, 1.0f), 1.0f, "(0, 1]");
   } else if (k == "medulla") {
     once(medulla_line_);
     expect_count(8, "medulla RATIO SIGMA_S_R SIGMA_S_G SIGMA_S_B SIGMA_A_R SIGMA_A_G SIGMA_A_B");
@@ -356,7 +364,7 @@ void Reader::parse_curve(Feather& f) {
   in_curves_ = true;
   if (!units_line_) fail(tok_[0], "missing 'units mm' record before the first curve");
   if (!curves_line_) fail(tok_[0], "missing 'curves N' record before the first curve");
-  const char* form = "curve shaft|barb none|left|right bspline NPOINTS root F";
+  const char* form = "curve shaft|barb|down none|left|right bspline NPOINTS root F";
   expect_count(7, form);
   if (f.curves.size() >= declared_curves_)
     fail(tok_[0], "more curves than the 'curves " + std::to_string(declared_curves_) + "' record on line " +
@@ -366,8 +374,10 @@ void Reader::parse_curve(Feather& f) {
     c.kind = CurveKind::Shaft;
   else if (tok_[1].text == "barb")
     c.kind = CurveKind::Barb;
+  else if (tok_[1].text == "down")
+    c.kind = CurveKind::Down;
   else
-    fail(tok_[1], "curve kind: expected 'shaft' or 'barb', found '" + std::string(tok_[1].text) + "'");
+    fail(tok_[1], "curve kind: expected 'shaft', 'barb' or 'down', found '" + std::string(tok_[1].text) + "'");
   if (tok_[2].text == "none")
     c.side = VaneSide::None;
   else if (tok_[2].text == "left")
@@ -382,7 +392,8 @@ void Reader::parse_curve(Feather& f) {
     if (!f.curves.empty()) fail(tok_[1], "the shaft must be the first curve");
     shaft_line_ = line_no_;
   } else if (c.side == VaneSide::None) {
-    fail(tok_[2], "a barb belongs to a vane: its side must be 'left' or 'right'");
+    fail(tok_[2], std::string(c.kind == CurveKind::Down ? "a down barb" : "a barb") +
+                      " belongs to a vane: its side must be 'left' or 'right'");
   }
   if (tok_[3].text != "bspline")
     fail(tok_[3], "basis: only 'bspline' (uniform cubic B-spline) is supported, found '" +
@@ -494,6 +505,11 @@ std::string format_fcurves(const Feather& f) {
     append_vec3(out, f.medulla.sigma_s);
     out += ' ';
     append_vec3(out, f.medulla.sigma_a);
+    out += '\n';
+  }
+  if (f.down_cover != 1.0f) {
+    out += "down cover ";
+    append_float(out, f.down_cover);
     out += '\n';
   }
   for (VaneSide s : {VaneSide::Left, VaneSide::Right}) {

@@ -70,8 +70,18 @@ void append_provenance_comment(std::string& out, const Feather& f, const char* c
   out += " shaft, ";
   append_int(out, f.count(CurveKind::Barb));
   out += " barbs, ";
+  if (const std::size_t down = f.count(CurveKind::Down)) {
+    append_int(out, down);
+    out += " down barbs, ";
+  }
   append_int(out, f.num_control_points());
   out += " control points; units mm\n";
+  if (f.count(CurveKind::Down) && f.down_cover != 1.0f) {
+    out += comment;
+    out += " down barbs: round curves the reach of their barbules, which Plumage fills ";
+    append_float(out, f.down_cover);
+    out += " of (down cover); drawn here whole\n";
+  }
   if (!f.provenance.source.empty() || f.provenance.seed) {
     out += comment;
     out += " source: ";
@@ -102,7 +112,7 @@ void append_pbrt_rgb(std::string& out, const char* name, const glm::vec3& c) {
 }
 
 // Barbs as pbrt's "flat" curves: ribbons that always face the ray, as hair mode
-// draws them; the shaft as a "cylinder", as plumage's round shaft.
+// draws them; the shaft and down barbs as "cylinder"s, as plumage's round fibres.
 void append_pbrt_curve(std::string& out, const Feather& f, const Curve& c, PbrtVersion v) {
   const auto& cp = c.points;
   const std::size_t segments = cp.size() - 3;
@@ -546,7 +556,7 @@ void append_obj_curves(std::string& out, const Feather& f, const std::string& pr
     if (c.kind == CurveKind::Shaft) {
       out += "shaft\n";
     } else {
-      out += "barb_";
+      out += c.kind == CurveKind::Down ? "down_" : "barb_";
       out += to_string(c.side);
       out += '_';
       append_int(out, barb++);

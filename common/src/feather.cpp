@@ -40,7 +40,13 @@ std::optional<SubstructureProblem> substructure_problem(const SubstructureParams
   return std::nullopt;
 }
 
-const char* to_string(CurveKind k) { return k == CurveKind::Shaft ? "shaft" : "barb"; }
+const char* to_string(CurveKind k) {
+  switch (k) {
+    case CurveKind::Shaft: return "shaft";
+    case CurveKind::Down: return "down";
+    default: return "barb";
+  }
+}
 
 const char* to_string(VaneSide s) {
   switch (s) {

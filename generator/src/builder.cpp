@@ -11,7 +11,13 @@
 namespace plumage {
 
 namespace {
-constexpr double kDegToRad = kPi / 180.0;
+
+// A down barb's barbules shorten toward its tip: over the last kDownTipTaper of the
+// barb its radius falls (smoothstep) by kDownTipNarrowing of afterfeather.radius, so
+// the fluff's edge is a soft line, not a row of blunt tube ends (kBarbTipTaper does
+// the same for a ribbon).
+constexpr double kDownTipTaper = 0.2;
+constexpr double kDownTipNarrowing = 0.75;
 constexpr int kSubsteps = 4;           // RK2 steps per barb station
 constexpr int kCageFitIterations = 3;  // see fit_cage_to_targets
 
@@ -205,7 +211,9 @@ struct VaneBuilder {
         pos[j] = j == 0 ? shaft.curve().eval(shaft.t_at(s0 + roots[k])) : smp.p + lift[std::size_t(k) * K + j] * smp.n;
         ControlPoint& cp = cps[j + 1];
         cp.n = glm::vec3(smp.n);
-        cp.radius = float(p.barb.radius_root + (p.barb.radius_tip - p.barb.radius_root) * v);
+        // A down barb's barbules shorten toward its tip: its tube narrows to a quarter.
+        cp.radius = loose[k] ? float(af.radius * (1.0 - kDownTipNarrowing * smoothstep((v - 1.0) / kDownTipTaper + 1.0)))
+                             : float(p.barb.radius_root + (p.barb.radius_tip - p.barb.radius_root) * v);
       }
       const std::vector<glm::dvec3> with_ends = with_phantom_ends(pos);
       for (int j = 0; j < K + 2; ++j) cps[j].p = glm::vec3(with_ends[j]);
@@ -213,7 +221,7 @@ struct VaneBuilder {
       cps[K + 1].n = cps[K].n, cps[K + 1].radius = cps[K].radius;
 
       Curve c;
-      c.kind = CurveKind::Barb;
+      c.kind = loose[k] ? CurveKind::Down : CurveKind::Barb;
       c.side = side;
       c.root = float((s0 + roots[k]) / shaft.length());
       c.points = std::move(cps);
@@ -239,6 +247,7 @@ FeatherBuild build_feather_detailed(const FeatherParams& params, std::uint64_t s
   f.albedo.color = params.albedo;
   f.left = params.left.substructure;
   f.right = params.right.substructure;
+  if (params.afterfeather.enabled && params.afterfeather.fraction > 0) f.down_cover = float(params.afterfeather.cover);
 
   // Shaft first: radius tapering base to tip, normal the (twisted) dorsal side.
   Curve sc;

@@ -124,7 +124,9 @@ void validate(const FeatherParams& p, const std::string& source) {
   c.range("surface.twist_deg", p.surface.twist_deg, -180.0, 180.0, "degrees");
   c.range("surface.cage_columns", p.surface.cage_columns, 4, 256);
   c.range("surface.cage_rows", p.surface.cage_rows, 2, 64);
-  c.range("afterfeather.fraction", p.afterfeather.fraction, 0.0, 0.9);
+  c.range("afterfeather.fraction", p.afterfeather.fraction, 0.0, 1.0);
+  c.range("afterfeather.radius", p.afterfeather.radius, kMinDownRadiusMm, 5.0, "mm");
+  c.range("afterfeather.cover", p.afterfeather.cover, 0.01, 1.0);
   c.range("afterfeather.wave", p.afterfeather.wave, 0.0, 50.0, "mm");
   c.range("afterfeather.lift", p.afterfeather.lift, 0.0, 50.0, "mm");
   c.range("afterfeather.waves", p.afterfeather.waves, 0.0, 20.0);
@@ -260,6 +262,8 @@ FeatherParams params_from_json(const json& j, const std::string& source) {
   r.object("afterfeather", [&](Reader& a) {
     a.boolean("enabled", p.afterfeather.enabled);
     a.number("fraction", p.afterfeather.fraction);
+    a.number("radius", p.afterfeather.radius);
+    a.number("cover", p.afterfeather.cover);
     a.number("wave", p.afterfeather.wave);
     a.number("lift", p.afterfeather.lift);
     a.number("waves", p.afterfeather.waves);
@@ -305,7 +309,8 @@ json params_to_json(const FeatherParams& p) {
        {{"cupping", p.surface.cupping}, {"twist_deg", p.surface.twist_deg},
         {"cage_columns", p.surface.cage_columns}, {"cage_rows", p.surface.cage_rows}}},
       {"afterfeather",
-       {{"enabled", p.afterfeather.enabled}, {"fraction", p.afterfeather.fraction}, {"wave", p.afterfeather.wave},
+       {{"enabled", p.afterfeather.enabled}, {"fraction", p.afterfeather.fraction},
+        {"radius", p.afterfeather.radius}, {"cover", p.afterfeather.cover}, {"wave", p.afterfeather.wave},
         {"lift", p.afterfeather.lift}, {"waves", p.afterfeather.waves}}},
       {"splits", {{"count", p.splits.count}, {"gap", p.splits.gap}, {"depth", p.splits.depth}}},
       {"jitter", {{"angle_deg", p.jitter.angle_deg}, {"spacing", p.jitter.spacing}}},

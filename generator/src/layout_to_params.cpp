@@ -583,15 +583,22 @@ LayoutParams layout_to_params(const FeatherLayout& f, const std::string& source)
   double downy[2];
   for (int s = 0; s < 2; ++s)
     downy[s] = std::clamp((sides[s]->afterfeather_to_t - calamus_t) / (1.0 - calamus_t), 0.0, 0.9);
+  // A plume (both sides downy to the tip, docs/analysis.md "Plumes: an open vane"):
+  // down barbs from base to tip.
+  const bool plume = sides[0]->afterfeather_to_t >= 1.0 && sides[1]->afterfeather_to_t >= 1.0;
   if (downy[0] > 0 || downy[1] > 0) {
     p.afterfeather.enabled = true;
-    p.afterfeather.fraction = 0.5 * (downy[0] + downy[1]);
+    p.afterfeather.fraction = plume ? 1.0 : 0.5 * (downy[0] + downy[1]);
     // The photo does not show how far loose barbs wave and lift; the default's
     // 1 mm, scaled down on feathers shorter than 10 cm.
     p.afterfeather.wave = p.afterfeather.lift = std::min(1.0, 0.01 * L);
-    out.warnings.push_back("downy base (left " + num(std::round(100 * downy[0])) + " %, right " +
-                           num(std::round(100 * downy[1])) + " % of the vane) built as loose afterfeather barbs over " +
-                           num(std::round(100 * p.afterfeather.fraction)) + " % of both vanes");
+    out.warnings.push_back(plume ? "a plume (both vanes open, " +
+                                       num(std::round(50 * (sides[0]->open_share + sides[1]->open_share))) +
+                                       " % of them the card) built as down barbs from base to tip"
+                                 : "downy base (left " + num(std::round(100 * downy[0])) + " %, right " +
+                                       num(std::round(100 * downy[1])) +
+                                       " % of the vane) built as loose afterfeather barbs over " +
+                                       num(std::round(100 * p.afterfeather.fraction)) + " % of both vanes");
   }
   make_buildable(p, out.warnings);
   validate(p, source);

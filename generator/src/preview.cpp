@@ -132,9 +132,11 @@ Image render_preview(const Feather& feather, const PreviewOptions& options) {
     }
     canvas.composite(colour);
   };
+  // Down barbs (tubes their fibres fill to down_cover) as faint as they are full.
   for (const Curve& c : feather.curves)
-    if (c.kind == CurveKind::Barb)
-      draw(c, c.side == VaneSide::Right ? PreviewPalette::right : PreviewPalette::left, 0.9f);
+    if (c.kind != CurveKind::Shaft)
+      draw(c, c.side == VaneSide::Right ? PreviewPalette::right : PreviewPalette::left,
+           c.kind == CurveKind::Down ? 0.9f * feather.down_cover : 0.9f);
   for (const Curve& c : feather.curves)
     if (c.kind == CurveKind::Shaft) draw(c, PreviewPalette::shaft, 1.0f);
 

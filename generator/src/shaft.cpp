@@ -3,13 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "plumage/common/constants.h"
 #include "plumage/common/frame.h"
 
 namespace plumage {
-
-namespace {
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
-}  // namespace
 
 namespace {
 

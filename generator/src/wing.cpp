@@ -142,6 +142,8 @@ FeatherParams blend_params(const FeatherParams& a, const FeatherParams& b, doubl
   p.surface.cage_columns = lerp_count(a.surface.cage_columns, b.surface.cage_columns, t);
   p.surface.cage_rows = lerp_count(a.surface.cage_rows, b.surface.cage_rows, t);
   p.afterfeather.fraction = lerp(a.afterfeather.fraction, b.afterfeather.fraction, t);
+  p.afterfeather.radius = lerp(a.afterfeather.radius, b.afterfeather.radius, t);
+  p.afterfeather.cover = lerp(a.afterfeather.cover, b.afterfeather.cover, t);
   p.afterfeather.wave = lerp(a.afterfeather.wave, b.afterfeather.wave, t);
   p.afterfeather.lift = lerp(a.afterfeather.lift, b.afterfeather.lift, t);
   p.afterfeather.waves = lerp(a.afterfeather.waves, b.afterfeather.waves, t);

@@ -85,7 +85,8 @@ ojson profile(const VaneProfile& v) {
              {"barb_angle_confidence", v.barb_angle_confidence},
              {"barb_spacing_mm", v.barb_spacing_mm},
              {"barb_spacing_confidence", v.barb_spacing_confidence},
-             {"afterfeather_to_t", v.afterfeather_to_t}};
+             {"afterfeather_to_t", v.afterfeather_to_t},
+             {"open_share", v.open_share}};
   if (!v.width_hidden.empty()) j["width_hidden"] = v.width_hidden;  // only a shingled row's feather
   return j;
 }
@@ -119,6 +120,8 @@ VaneProfile read_vane(const JsonReader& j, std::size_t n) {
   v.barb_spacing_confidence = j.member("barb_spacing_confidence").numbers(n, 0, 1);
   // Optional: layouts written before the downy base was measured have none.
   if (const auto a = j.find("afterfeather_to_t")) v.afterfeather_to_t = a->number(0, 1);
+  // Optional: layouts written before open vanes were measured have none.
+  if (const auto o = j.find("open_share")) v.open_share = o->number(0, 1);
   // Optional: only a shingled row's feathers have hidden stations.
   if (const auto h = j.find("width_hidden")) v.width_hidden = h->numbers(n, 0, 1);
   return v;

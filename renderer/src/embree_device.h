@@ -4,6 +4,10 @@
 // ray-id bit that keeps substructure gaps, and the gap filter's hooks.
 #include <embree3/rtcore.h>
 
+#include <bit>
+#include <cstdint>
+
+#include "plumage/renderer/sampler.h"
 #include "plumage/renderer/scene.h"
 
 namespace plumage {
@@ -33,6 +37,20 @@ struct FilterCandidate {
           RTCRayN_dir_z(args->ray, args->N, i)),
         t(RTCRayN_tfar(args->ray, args->N, i)) {}
   glm::vec3 point() const { return o + t * d; }
+  // A uniform number in [0, 1) for this candidate on primitive `prim`: the same for
+  // the same ray and candidate, whoever asks, and independent between rays (a hash
+  // of the ray, the primitive and the candidate's distance). Stochastic
+  // pass-through filters decide with it.
+  float uniform(std::uint32_t prim) const {
+    std::uint32_t h = hash_combine(std::bit_cast<std::uint32_t>(o.x), std::bit_cast<std::uint32_t>(o.y));
+    h = hash_combine(h, std::bit_cast<std::uint32_t>(o.z));
+    h = hash_combine(h, std::bit_cast<std::uint32_t>(d.x));
+    h = hash_combine(h, std::bit_cast<std::uint32_t>(d.y));
+    h = hash_combine(h, std::bit_cast<std::uint32_t>(d.z));
+    h = hash_combine(h, std::bit_cast<std::uint32_t>(t));
+    h = hash_combine(h, prim);
+    return float(h >> 8) * 0x1p-24f;
+  }
 };
 
 // The RTCRay of a plumage Ray (its origin, direction and [tnear, tfar]), all
@@ -69,5 +87,8 @@ void attach_gap_filter(RTCGeometry geom, const Scene* scene);
 void flush_gap_rejections();
 // Farfield mode (farfield_scene.cpp): installs the stochastic pass-through filter.
 void attach_farfield_filter(RTCGeometry geom, const Scene* scene);
+// Down barbs (down_scene.cpp): installs the filter that lets a ray through a down
+// barb's tube where its fibres do not fill it.
+void attach_down_filter(RTCGeometry geom, const Scene* scene);
 
 }  // namespace plumage

@@ -8,13 +8,13 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "plumage/common/bspline.h"
+#include "plumage/common/constants.h"
 #include "plumage/common/frame.h"
 #include "plumage/common/error.h"
 
 namespace plumage {
 namespace {
 
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 
 // Lateral room for a barbule: from the ramus edge to the ribbon's edge.
 double barbule_reach(const SubstructureParams& p) { return 0.5 * double(p.ribbon_width) - double(p.ramus_radius); }

@@ -15,21 +15,9 @@
 
 namespace plumage {
 
-// A stochastic decision must be the same for the same ray and candidate, whoever
-// asks, and independent between rays: a hash of the ray, the primitive and the
-// candidate's distance.
+// Each candidate passes with the far-field transmittance toward the ray, decided
+// by FilterCandidate::uniform (the same for the same ray and candidate, whoever asks).
 struct FarfieldFilter {
-  static float uniform(const glm::vec3& o, const glm::vec3& d, float t, std::uint32_t prim) {
-    std::uint32_t h = hash_combine(std::bit_cast<std::uint32_t>(o.x), std::bit_cast<std::uint32_t>(o.y));
-    h = hash_combine(h, std::bit_cast<std::uint32_t>(o.z));
-    h = hash_combine(h, std::bit_cast<std::uint32_t>(d.x));
-    h = hash_combine(h, std::bit_cast<std::uint32_t>(d.y));
-    h = hash_combine(h, std::bit_cast<std::uint32_t>(d.z));
-    h = hash_combine(h, std::bit_cast<std::uint32_t>(t));
-    h = hash_combine(h, prim);
-    return float(h >> 8) * 0x1p-24f;
-  }
-
   static void pass_through(const RTCFilterFunctionNArguments* args) {
     const auto* scene = static_cast<const Scene*>(args->geometryUserPtr);
     for (unsigned i = 0; i < args->N; ++i) {
@@ -43,7 +31,7 @@ struct FarfieldFilter {
       f.b *= vane.distal_sign();
       const FarfieldModel& m = *scene->farfield_T_[vane.side() == VaneSide::Right][scene->farfield_class_[prim]];
       const float T = m.transmittance(f.to_local(c.d));
-      if (T > 0 && uniform(c.o, c.d, c.t, prim) < T) args->valid[i] = 0;
+      if (T > 0 && c.uniform(prim) < T) args->valid[i] = 0;
     }
   }
 };

@@ -42,7 +42,10 @@ FibreMaterial view_material(const Feather& feather, const ViewSpec& view, Shadin
   }
   if (!view.sigma_a) {
     FibreMaterial m(fibre, AlbedoMap(feather.albedo, view.base_dir, feather.shaft()));
-    if (view.photo_card) m.set_card(*view.photo_card, card_response(mode), view.photo_texture_absolute, view.photo_gain);
+    // Down barbs are fibres in every mode: the hair response's correction.
+    if (view.photo_card)
+      m.set_card(*view.photo_card, card_response(mode), view.photo_texture_absolute, view.photo_gain,
+                 &card_response(ShadingMode::Hair));
     return m;
   }
   HairParams hp = fibre;

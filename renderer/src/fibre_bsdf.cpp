@@ -1,9 +1,14 @@
 #include "plumage/renderer/fibre_bsdf.h"
 
+#include <bit>
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
+#include "plumage/common/constants.h"
 #include "plumage/common/image.h"
+#include "plumage/renderer/sampler.h"
 #include "plumage/renderer/scene.h"
 
 namespace plumage {
@@ -60,6 +65,22 @@ std::optional<BsdfSample> FibreBsdf::sample(const glm::vec4& u) const {
 FibreFrame round_fibre_frame_at(const Scene& scene, const SurfaceHit& hit, const glm::vec3& wo) {
   const CurvePoint cp = scene.curve_point(hit);
   return round_fibre_frame(cp.dp, wo, cp.p, cp.radius, hit.p);
+}
+
+FibreFrame down_fibre_frame_at(const Scene& scene, const SurfaceHit& hit, const glm::vec3& wo) {
+  if (scene.options().mode == ShadingMode::Hair) return round_fibre_frame_at(scene, hit, wo);
+  const CurvePoint cp = scene.curve_point(hit);
+  const glm::vec3 t = safe_normalize(cp.dp);
+  const Frame around = frame_from_tangent_normal(t, std::fabs(t.z) < 0.9f ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0));
+  // Two numbers fixed by where the ray met the tube.
+  std::uint32_t h = hash_combine(std::bit_cast<std::uint32_t>(hit.p.x), std::bit_cast<std::uint32_t>(hit.p.y));
+  h = hash_combine(h, std::bit_cast<std::uint32_t>(hit.p.z));
+  const float u1 = float(h >> 8) * 0x1p-24f;
+  const float u2 = float(hash_combine(h, hit.curve) >> 8) * 0x1p-24f;
+  const float elevation = float(scene.feather().substructure(scene.feather().curves[hit.curve].side).elevation_deg * kDegToRad);
+  const float azimuth = 2.0f * kPiF * u1;
+  const glm::vec3 barbule = std::cos(elevation) * t + std::sin(elevation) * (std::cos(azimuth) * around.b + std::sin(azimuth) * around.n);
+  return flat_fibre_frame(barbule, wo, 2.0f * u2 - 1.0f);
 }
 
 }  // namespace plumage

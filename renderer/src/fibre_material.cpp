@@ -79,8 +79,12 @@ glm::vec3 photo_albedo_to_fibre(const glm::vec3& area_albedo, float coverage, in
 }
 
 void FibreMaterial::set_card(const glm::vec3& card, const CardResponse& response, bool absolute,
-                             const glm::vec3& mean_gain) {
+                             const glm::vec3& mean_gain, const CardResponse* down_response) {
   card_.emplace(response, card);
+  if (down_response)
+    down_card_.emplace(*down_response, card);
+  else
+    down_card_.reset();
   texel_scale_ = absolute ? 1.0f / glm::max(card, glm::vec3(1e-3f)) : glm::vec3(1.0f);
   shift_ = glm::vec3(0.0f);
   if (mean_gain == glm::vec3(1.0f) || !albedo_ || !albedo_->textured()) return;
@@ -109,22 +113,28 @@ InversionCounts FibreMaterial::count_inversion() const {
 
 HairParams FibreMaterial::at_shaft(const glm::vec3& p, float t) const {
   if (!albedo_ || !albedo_->has_shaft_colour()) return at(p);
-  return from_albedo(albedo_->shaft_colour(t), 1.0f, 1);
+  return from_albedo(albedo_->shaft_colour(t), 1.0f, 1, card_);
+}
+
+HairParams FibreMaterial::at_down(const glm::vec3& p) const {
+  if (!down_card_ || !albedo_ || !albedo_->textured() || mapping_ != AlbedoMapping::Layer) return at(p);
+  return from_albedo(albedo_->at({p.x, p.y}), 1.0f, 1, down_card_);
 }
 
 HairParams FibreMaterial::at(const glm::vec3& p, float coverage, int layers) const {
   if (albedo_ && albedo_->textured() && mapping_ == AlbedoMapping::Layer)
-    return from_albedo(albedo_->at({p.x, p.y}), coverage, layers);
+    return from_albedo(albedo_->at({p.x, p.y}), coverage, layers, card_);
   HairParams hp = params_;
   hp.sigma_a = albedo_ && albedo_->textured() ? sigma_a_from(albedo_->at({p.x, p.y})) : constant_sigma_a_;
   return hp;
 }
 
-HairParams FibreMaterial::from_albedo(glm::vec3 a, float coverage, int layers) const {
+HairParams FibreMaterial::from_albedo(glm::vec3 a, float coverage, int layers,
+                                      const std::optional<CardCorrection>& card) const {
   HairParams hp = params_;
   if (mapping_ == AlbedoMapping::Layer && albedo_ && albedo_->textured()) {
-    if (card_) {
-      const FibreColour fc = (*card_)(target(a));
+    if (card) {
+      const FibreColour fc = (*card)(target(a));
       a = fc.albedo;
       if (fc.medulla_sigma_s > 0.0f) {
         hp.medulla_ratio = kPhotoMedullaRatio;

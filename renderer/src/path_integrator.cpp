@@ -111,8 +111,8 @@ void PathIntegrator::make_shadings() {
     barbs_.push_back(make_barb_shading({*f.scene, *f.material, bsdf_pdf_needed_}));
 }
 
-// A barb is shaded by its mode's model; the shaft is a round fibre and the card a
-// diffuse surface in every mode. A placed feather is shaded in its own frame.
+// A barb is shaded by its mode's model; the shaft and down barbs are round fibres
+// and the card a diffuse surface in every mode. A placed feather is shaded in its own frame.
 const Bsdf& PathIntegrator::bsdf_at(const WorldHit& hit, const glm::vec3& wo, BsdfSlot& slot, BsdfSlot& local) const {
   if (hit.local.kind == HitKind::Backdrop)
     return slot.emplace<DiffuseBsdf>(safe_normalize(hit.local.ng), wo, world_.backdrop().albedo);
@@ -120,11 +120,14 @@ const Bsdf& PathIntegrator::bsdf_at(const WorldHit& hit, const glm::vec3& wo, Bs
   const glm::vec3 wl = turn ? glm::transpose(*turn) * wo : wo;
   BsdfSlot& target = turn ? local : slot;
   const WorldFeather& f = world_.feather_of(hit);
+  const bool down = hit.local.kind == HitKind::Down;
   const Bsdf& b = hit.local.kind == HitKind::Barb
                       ? barbs_[world_.placed_feather(hit.placement)]->at(hit.local, wl, target)
-                      : target.emplace<FibreBsdf>(round_fibre_frame_at(*f.scene, hit.local, wl),
-                                                  f.material->at_shaft(hit.local.p, f.scene->curve_parameter(hit.local)),
-                                                  wl, bsdf_pdf_needed_);
+                      : target.emplace<FibreBsdf>(
+                            down ? down_fibre_frame_at(*f.scene, hit.local, wl) : round_fibre_frame_at(*f.scene, hit.local, wl),
+                            down ? f.material->at_down(hit.local.p)
+                                 : f.material->at_shaft(hit.local.p, f.scene->curve_parameter(hit.local)),
+                            wl, bsdf_pdf_needed_);
   if (!turn) return b;
   return slot.emplace<PlacedBsdf>(b, *turn);
 }

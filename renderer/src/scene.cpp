@@ -48,7 +48,11 @@ Scene::Scene(const Feather& feather, const SceneOptions& options, std::shared_pt
 
   // Convex-hull property: the control points' box (grown by the radius) holds the curve.
   std::vector<Bounds3f> curve_boxes(feather_.curves.size());
-  float barb_lo_z = std::numeric_limits<float>::infinity();
+  // The vane's lowest point and widest ribbon place the card under it: its
+  // pennaceous barbs', or a plume's down barbs' when it has no others (down barbs
+  // that wave below a closed vane lie on the card, not under it).
+  float lo_z[2] = {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity()};
+  float widest[2] = {0, 0};  // [0] barbs, [1] down barbs
   for (std::size_t i = 0; i < feather_.curves.size(); ++i) {
     const Curve& c = feather_.curves[i];
     const std::vector<float> radii = plumage::render_radii(feather_, c);
@@ -58,9 +62,11 @@ Scene::Scene(const Feather& feather, const SceneOptions& options, std::shared_pt
       curve_boxes[i].extend(cp.p - glm::vec3(r));
       curve_boxes[i].extend(cp.p + glm::vec3(r));
       max_radius_ = std::max(max_radius_, r);
-      if (c.kind == CurveKind::Barb) {
+      if (c.kind != CurveKind::Shaft) {
         max_barb_radius_ = std::max(max_barb_radius_, r);
-        barb_lo_z = std::min(barb_lo_z, cp.p.z - r);
+        const int down = c.kind == CurveKind::Down;
+        widest[down] = std::max(widest[down], r);
+        lo_z[down] = std::min(lo_z[down], cp.p.z - r);
       }
     }
     bounds_.extend(curve_boxes[i]);
@@ -68,8 +74,9 @@ Scene::Scene(const Feather& feather, const SceneOptions& options, std::shared_pt
   if (options_.backdrop.enabled) {
     // Just under the feather or its vane (backdrop.h).
     const glm::vec3 s = bounds_.size();
-    const bool vane = options_.backdrop.placement == BackdropPlacement::Vane && std::isfinite(barb_lo_z);
-    const float lo = vane ? barb_lo_z : bounds_.lo.z, r = vane ? max_barb_radius_ : max_radius_;
+    const int by = std::isfinite(lo_z[0]) ? 0 : 1;
+    const bool vane = options_.backdrop.placement == BackdropPlacement::Vane && std::isfinite(lo_z[by]);
+    const float lo = vane ? lo_z[by] : bounds_.lo.z, r = vane ? widest[by] : max_radius_;
     backdrop_z_ = lo - std::max(4.0f * r, 1e-3f * std::max(s.x, s.y));
   }
   // Bounds, camera framing and backdrop stay those of the whole feather, so a
@@ -82,11 +89,12 @@ Scene::Scene(const Feather& feather, const SceneOptions& options, std::shared_pt
   if (options_.mode == ShadingMode::Substructure) build_substructure("--shading substructure");
   if (options_.mode == ShadingMode::Farfield) build_farfield();
 
-  add_curves(shaft_, CurveKind::Shaft, RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE);
+  add_curves(shaft_, {CurveKind::Shaft}, RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE);
+  build_down();
   switch (barb_geometry(options_.mode)) {
     case BarbGeometry::Structures: build_explicit(); break;
-    case BarbGeometry::VaneRibbon: add_curves(barbs_, CurveKind::Barb, RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE); break;
-    case BarbGeometry::FacingRibbon: add_curves(barbs_, CurveKind::Barb, RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE); break;
+    case BarbGeometry::VaneRibbon: add_curves(barbs_, {CurveKind::Barb}, RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE); break;
+    case BarbGeometry::FacingRibbon: add_curves(barbs_, {CurveKind::Barb}, RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE); break;
   }
   scene_bounds_ = bounds_;
   if (options_.backdrop.enabled) add_backdrop();
@@ -110,10 +118,10 @@ Scene::Scene(const Feather& feather, const SceneOptions& options, std::shared_pt
 
 Scene::~Scene() = default;
 
-void Scene::add_curves(CurveGeometry& g, CurveKind kind, int rtc_type) {
+void Scene::add_curves(CurveGeometry& g, std::initializer_list<CurveKind> kinds, int rtc_type) {
   for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci) {
     const Curve& c = feather_.curves[ci];
-    if (c.kind != kind || !keep_[ci]) continue;
+    if (std::find(kinds.begin(), kinds.end(), c.kind) == kinds.end() || !keep_[ci]) continue;
     const auto first = std::uint32_t(g.vertices.size());
     first_cp_.resize(feather_.curves.size(), 0);
     first_cp_[ci] = first;
@@ -146,6 +154,7 @@ void Scene::commit_curves(CurveGeometry& g, int rtc_type) {
     else
       attach_gap_filter(geom, this);
   }
+  if (&g == &down_ && feather_.down_cover < 1.0f) attach_down_filter(geom, this);
   rtcCommitGeometry(geom);
   g.id = rtcAttachGeometry(rtc_->scene, geom);
   rtcReleaseGeometry(geom);
@@ -154,6 +163,7 @@ void Scene::commit_curves(CurveGeometry& g, int rtc_type) {
 const Scene::CurveGeometry* Scene::curve_geometry(std::uint32_t geom) const {
   if (geom == barbs_.id) return &barbs_;
   if (geom == shaft_.id) return &shaft_;
+  if (geom == down_.id) return &down_;
   return nullptr;
 }
 

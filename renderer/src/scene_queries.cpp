@@ -56,7 +56,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit, bool keep_gaps) const {
   hit.prim = rh.hit.primID;
   if (const CurveGeometry* g = curve_geometry(hit.geom)) {
     hit.curve = g->prims[hit.prim].curve;
-    hit.kind = g == &shaft_ ? HitKind::Shaft : HitKind::Barb;
+    hit.kind = g == &shaft_ ? HitKind::Shaft : g == &down_ ? HitKind::Down : HitKind::Barb;
   } else {
     hit.curve = kNoId;
     hit.kind = HitKind::Backdrop;

@@ -5,12 +5,12 @@
 #include <numbers>
 #include <string>
 
+#include "plumage/common/constants.h"
 #include "plumage/common/error.h"
 #include "plumage/common/number_text.h"
 
 namespace plumage {
 namespace {
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 
 // Rodrigues' rotation of v about the unit axis k by angle a (right-handed).
 glm::vec3 rotate(const glm::vec3& v, const glm::vec3& k, float a) {

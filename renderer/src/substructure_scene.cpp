@@ -61,9 +61,13 @@ void attach_gap_filter(RTCGeometry geom, const Scene* scene) {
 // parameter fails before any ray is traced), the vane normals Embree orients the
 // ribbons with, and per segment a table of arc length s at evenly spaced u.
 void Scene::make_vanes(const char* what) {
+  // Only a vane with (pennaceous) barbs: down barbs carry no substructure.
+  const auto has_barbs = [&](VaneSide side) {
+    return std::any_of(feather_.curves.begin(), feather_.curves.end(),
+                       [&](const Curve& c) { return c.kind == CurveKind::Barb && c.side == side; });
+  };
   for (VaneSide side : {VaneSide::Left, VaneSide::Right})
-    if (feather_.count(side) > 0)
-      (side == VaneSide::Left ? left_ : right_).emplace(feather_.substructure(side), side, what);
+    if (has_barbs(side)) (side == VaneSide::Left ? left_ : right_).emplace(feather_.substructure(side), side, what);
   for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci) {
     const Curve& c = feather_.curves[ci];
     if (c.kind == CurveKind::Barb && keep_[ci] && c.side == VaneSide::None)

@@ -7,5 +7,7 @@ namespace plumage {
 
 inline constexpr double kPi = std::numbers::pi;
 inline constexpr float kPiF = std::numbers::pi_v<float>;
+// Degrees to radians.
+inline constexpr double kDegToRad = kPi / 180.0;
 
 }  // namespace plumage

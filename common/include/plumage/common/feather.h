@@ -13,7 +13,12 @@
 
 namespace plumage {
 
-enum class CurveKind { Shaft, Barb };
+// Shaft: the rachis and calamus. Barb: a pennaceous barb, drawn as a ribbon of the
+// vane's width (its barbules close the vane). Down: a plumulaceous barb (down, a
+// downy base, a plume): loose, thin and curling, its barbules sparse and unhooked,
+// so no closed vane; drawn as a round fibre of its own radius in every shading mode
+// (docs/curve-format.md, "Down").
+enum class CurveKind { Shaft, Barb, Down };
 // The vane a barb belongs to. Seen from the dorsal side (+Z) with the tip up,
 // Left barbs lie at x < 0 of the shaft and Right barbs at x > 0.
 enum class VaneSide { None, Left, Right };
@@ -110,6 +115,11 @@ struct Feather {
   Albedo albedo;
   Medulla medulla;
   SubstructureParams left, right;        // per vane
+  // Down barbs (CurveKind::Down): the share of a down barb's tube (its radius the
+  // reach of its barbules) that its ramus and barbules fill, in (0, 1]: a ray
+  // crossing the tube's surface meets a fibre there with this probability
+  // (docs/curve-format.md, "Down"). 1: an opaque fibre.
+  float down_cover = 1.0f;
   std::vector<Curve> curves;             // the shaft (if any) first, then barbs
 
   const SubstructureParams& substructure(VaneSide s) const { return s == VaneSide::Right ? right : left; }

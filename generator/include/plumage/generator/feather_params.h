@@ -53,13 +53,20 @@ struct SurfaceParams {
   bool operator==(const SurfaceParams&) const = default;
 };
 
-// Loose, fluffy (plumulaceous) barbs near the base of the vane.
+// The thinnest down barb (afterfeather.radius's lower bound, mm).
+inline constexpr double kMinDownRadiusMm = 0.001;
+
+// Loose, fluffy (plumulaceous) barbs near the base of the vane, built as down
+// barbs (CurveKind::Down): round fibres of their own radius, no ribbon, no closed
+// vane. A fraction of 1 makes the whole feather downy (a plume).
 struct AfterfeatherParams {
   bool enabled = false;
   double fraction = 0.15;       // basal fraction of the vane whose barbs are loose
   double wave = 1.0;            // in-vane waviness amplitude at the base (mm)
   double lift = 1.0;            // out-of-vane lift amplitude at the base (mm)
   double waves = 2.0;           // oscillations along a loose barb
+  double radius = 0.25;         // a down barb's radius (mm): the reach of its barbules around the ramus
+  double cover = 0.8;           // the share of that tube its ramus and barbules fill (Feather::down_cover)
   bool operator==(const AfterfeatherParams&) const = default;
 };
 

@@ -39,6 +39,10 @@ struct VaneProfile {
   // fraction its barbs are loose and fluffy (plumulaceous), not an interlocked
   // vane; 0 when there is none. Its barb angles and spacing are not the vane's.
   double afterfeather_to_t = 0;
+  // The share of the side's vane where the card shows between its barbs
+  // (docs/analysis.md, "Plumes: an open vane"); both sides open make the feather a
+  // plume, downy from base to tip (afterfeather_to_t 1).
+  double open_share = 0;
   // 1 at a station where the side's edge is another feather of its shingled row
   // (hidden under it, or cut from it along the quills), else 0; empty when the
   // feather is no row's. There the width is what shows, a lower bound, and its

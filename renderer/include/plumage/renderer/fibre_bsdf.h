@@ -35,5 +35,12 @@ class FibreBsdf final : public Bsdf {
 // The frame of a round curve (the shaft, explicit mode's rami and barbules) at a hit:
 // h from where the hit lies across the tube.
 FibreFrame round_fibre_frame_at(const Scene& scene, const SurfaceHit& hit, const glm::vec3& wo);
+// The fibre a ray meets inside a down barb's tube (hit.kind == HitKind::Down): in
+// hair mode the barb itself (round_fibre_frame_at); in the modes that simulate
+// barbules, one of its barbules (docs/curve-format.md, "Down"): at the vane's
+// barbule elevation theta_b from the barb's tangent, turned about the tangent by an
+// azimuth, and met at an offset h, both uniform and fixed by the hit point (a
+// plumulaceous barbule has no vane to lie in).
+FibreFrame down_fibre_frame_at(const Scene& scene, const SurfaceHit& hit, const glm::vec3& wo);
 
 }  // namespace plumage

@@ -91,6 +91,10 @@ class FibreMaterial {
   // (Scene::curve_parameter): the feather's shaft colour there (Albedo::shaft)
   // where it has one, through the same card correction, one layer deep; else at(p).
   HairParams at_shaft(const glm::vec3& p, float t) const;
+  // A down barb's fibre at p (CurveKind::Down): the albedo there, one layer deep,
+  // through the down barbs' card correction (set_card's `down_response`: a down
+  // barb is a fibre, shaded alike in every mode), else the one of at().
+  HairParams at_down(const glm::vec3& p) const;
 
   // The texture is a photo's, of a feather lying on the card it lies on in the
   // render (albedo `card`): relative to that card (a light background, the paper
@@ -106,8 +110,10 @@ class FibreMaterial {
   // for a rendered feather is mostly light that never reaches the card, the same
   // on a dark texel as on a pale one, so a shift, not a scale, corrects it (a
   // texel shifted below 0 is taken as 0). 1 leaves the texels as they are.
+  // `down_response`, when given, is the card response the down barbs' texels go
+  // through (at_down); else `response`.
   void set_card(const glm::vec3& card, const CardResponse& response, bool absolute = false,
-                const glm::vec3& mean_gain = glm::vec3(1.0f));
+                const glm::vec3& mean_gain = glm::vec3(1.0f), const CardResponse* down_response = nullptr);
 
   // Every texel of the albedo texture through the card correction set_card gave,
   // as at() takes it; all zero without a texture or a card.
@@ -120,13 +126,13 @@ class FibreMaterial {
   glm::vec3 target(const glm::vec3& texel) const;
   // The fibre for a texel's (or the shaft's) albedo `a`: a photo's texture through
   // the card correction and the layer mapping, else a's absorption.
-  HairParams from_albedo(glm::vec3 a, float coverage, int layers) const;
+  HairParams from_albedo(glm::vec3 a, float coverage, int layers, const std::optional<CardCorrection>& card) const;
 
   HairParams params_;
   std::optional<AlbedoMap> albedo_;
   AlbedoMapping mapping_ = AlbedoMapping::Layer;
   glm::vec3 constant_sigma_a_;
-  std::optional<CardCorrection> card_;
+  std::optional<CardCorrection> card_, down_card_;
   glm::vec3 texel_scale_{1.0f};  // 1 / the card per channel for an absolute texture
   glm::vec3 shift_{0.0f};        // set_card's mean_gain as a shift of every texel
 };

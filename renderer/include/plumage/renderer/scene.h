@@ -13,6 +13,7 @@
 // view_cull.cpp the rule that leaves curves out.
 #include <cstdint>
 #include <functional>
+#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -146,7 +147,10 @@ class Scene {
   };
   static constexpr int kArcSamples = 8;  // per segment; linear in between
 
-  void add_curves(CurveGeometry& g, CurveKind kind, int rtc_type);
+  // Adds the kept curves of the kinds `kinds` to `g` and commits it as `rtc_type`.
+  void add_curves(CurveGeometry& g, std::initializer_list<CurveKind> kinds, int rtc_type);
+  // The down barbs' tubes and their pass-through filter (down_scene.cpp).
+  void build_down();
   void commit_curves(CurveGeometry& g, int rtc_type);
   // One BarbSubstructure per vane that has barbs, validated (`what` names the mode).
   void make_vanes(const char* what);
@@ -161,11 +165,15 @@ class Scene {
   friend struct SceneFilter;
   friend struct SubstructureFilter;
   friend struct FarfieldFilter;
+  friend struct DownFilter;
 
   Feather feather_;
   SceneOptions options_;
   std::unique_ptr<Embree> rtc_;
-  CurveGeometry shaft_, barbs_;
+  // shaft_: the shaft, a round fibre; down_: the down barbs (CurveKind::Down),
+  // round tubes their fibres fill to Feather::down_cover (down_scene.cpp), in every
+  // mode; barbs_: the pennaceous barbs in the mode's geometry (BarbGeometry).
+  CurveGeometry shaft_, down_, barbs_;
   std::uint32_t backdrop_id_ = kNoId;
   Bounds3f bounds_, scene_bounds_;
   float backdrop_z_ = 0;

@@ -10,7 +10,8 @@
 
 namespace plumage {
 
-enum class HitKind { None, Shaft, Barb, Backdrop };
+// Down: a down barb (CurveKind::Down), a round fibre like the shaft.
+enum class HitKind { None, Shaft, Barb, Down, Backdrop };
 
 struct SurfaceHit {
   HitKind kind = HitKind::None;
