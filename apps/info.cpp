@@ -112,6 +112,7 @@ void print_json(std::ostream& out, const std::string& file, const Feather& f, co
     j["albedo"]["shaft"] = nlohmann::json::array();
     for (const glm::vec3& c : f.albedo.shaft) j["albedo"]["shaft"].push_back(rgb(c));
   }
+  j["down_cover"] = decimal(f.down_cover);
   j["medulla"] = {{"ratio", decimal(f.medulla.ratio)},
                   {"sigma_s", rgb(f.medulla.sigma_s)},
                   {"sigma_a", rgb(f.medulla.sigma_a)}};
@@ -126,7 +127,7 @@ void print_text(std::ostream& out, const std::string& file, const Feather& f, co
   out << "\n";
   row("curves") << s.shafts << " shaft, " << s.barbs << " barbs (" << s.left << " left, " << s.right
                 << " right";
-  if (s.down) out << "; " << s.down << " of them down";
+  if (s.down) out << "; " << s.down << " of them down, their tubes filled " << num(f.down_cover);
   out << ")\n";
   row("control pts") << s.control_points;
   if (s.barbs) out << " (" << num(s.points_per_barb.lo) << ".." << num(s.points_per_barb.hi) << " per barb)";
