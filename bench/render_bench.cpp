@@ -4,6 +4,7 @@
 // high-spp reference at equal spp, Sobol vs independent). docs/perf/render.md.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -125,6 +126,39 @@ void BM_PathTrace(benchmark::State& state) {
   state.counters["rays_per_s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_PathTrace)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// What down barbs cost (docs/curve-format.md, "Down"): the rock dove built with a
+// closed vane (arg 0) and as a plume of down barbs base to tip (arg 1, the
+// afterfeather's defaults), hair mode under the dome, one thread; rays per second
+// and rays per camera sample.
+void BM_PathTraceDown(benchmark::State& state) {
+  FeatherParams p = load_preset("rock-dove-wing");
+  p.afterfeather.enabled = state.range(0) == 1;
+  p.afterfeather.fraction = 1.0;
+  p.afterfeather.radius = FeatherParams{}.afterfeather.radius;
+  p.afterfeather.cover = FeatherParams{}.afterfeather.cover;
+  const Feather feather = build_feather(p, 1, "preset:rock-dove-wing");
+  const Scene scene(feather, SceneOptions{ShadingMode::Hair, {true, glm::vec3(0.8f)}});
+  const LightSet lights = dome_all(scene);
+  const FibreMaterial material(HairParams{}, AlbedoMap(feather.albedo, "."));
+  const PathIntegrator integrator(scene, lights, material, IntegratorSettings{});
+  const Camera camera(CameraSpec{}, 64, 64, scene.feather_bounds());
+  RenderSettings rs;
+  rs.spp = 4;
+  rs.threads = 1;
+  rs.progress = false;
+  std::int64_t rays = 0, samples = 0;
+  for (auto _ : state) {
+    stats_reset();
+    benchmark::DoNotOptimize(render(camera, integrator, rs));
+    auto snap = stats_snapshot();
+    rays += std::int64_t(snap["Renderer/Rays traced"]);
+    samples += std::int64_t(snap["Renderer/Camera samples"]);
+  }
+  state.counters["rays_per_s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+  state.counters["rays_per_sample"] = double(rays) / double(std::max<std::int64_t>(samples, 1));
+}
+BENCHMARK(BM_PathTraceDown)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // RMSE of a 48x48 render of the feather under the dome against a 1024-spp
 // Sobol reference, at equal spp for each sampler (arg 0: spp, arg 1: 0 = Sobol, 1 = independent).
