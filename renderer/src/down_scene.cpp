@@ -2,6 +2,8 @@
 // the reach of each barb's barbules around its ramus, that its fibres fill to
 // Feather::down_cover. Their filter lets a ray through a tube where it meets no
 // fibre, in every shading mode.
+#include <vector>
+
 #include "embree_device.h"
 
 namespace plumage {
@@ -29,8 +31,20 @@ void attach_down_filter(RTCGeometry geom, const Scene* scene) {
   rtcSetGeometryOccludedFilterFunction(geom, &DownFilter::pass_open);
 }
 
+// As chains of round linear pieces within kPolylineTolerance of the B-spline: wide,
+// overlapping round B-spline curves cost Embree far more to intersect.
 void Scene::build_down() {
-  add_curves(down_, {CurveKind::Down}, RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE);
+  down_.linear = true;
+  std::vector<glm::vec4> cps;
+  for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci) {
+    const Curve& c = feather_.curves[ci];
+    if (c.kind != CurveKind::Down || !keep_[ci]) continue;
+    const std::vector<float> radii = plumage::render_radii(feather_, c);
+    cps.clear();
+    for (std::size_t k = 0; k < c.points.size(); ++k) cps.emplace_back(c.points[k].p, radii[k]);
+    append_polyline(down_, cps.data(), cps.size() - 3, ci, ci);
+  }
+  commit_curves(down_, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
 }
 
 }  // namespace plumage

@@ -47,6 +47,27 @@ int polyline_pieces(const glm::vec4* cp) {
 
 }  // namespace
 
+// One chain of vertices per curve, so that each piece's neighbours are the vertices
+// before and after it (RTCCurveFlags) and the joints are smooth.
+void Scene::append_polyline(CurveGeometry& g, const glm::vec4* cps, std::size_t segments, std::uint32_t curve,
+                            std::uint32_t fibre) {
+  const std::size_t first_piece = g.indices.size();
+  g.vertices.push_back(bspline_point(cps, 0.0f));
+  for (std::size_t s = 0; s < segments; ++s) {
+    const glm::vec4* cp = cps + s;
+    const int pieces = polyline_pieces(cp);
+    for (int k = 1; k <= pieces; ++k) {
+      const auto start = std::uint32_t(g.vertices.size() - 1);
+      g.vertices.push_back(bspline_point(cp, float(k) / float(pieces)));
+      g.indices.push_back(start);
+      g.prims.push_back({curve, start, fibre});
+    }
+  }
+  for (std::size_t k = first_piece; k < g.indices.size(); ++k)
+    g.flags.push_back(std::uint8_t((k > first_piece ? RTC_CURVE_FLAG_NEIGHBOR_LEFT : 0) |
+                                   (k + 1 < g.indices.size() ? RTC_CURVE_FLAG_NEIGHBOR_RIGHT : 0)));
+}
+
 // Explicit mode: every kept barb's ramus and barbules as round B-spline curves in
 // one Embree geometry (no filters: there are no gaps to reject, only empty space).
 void Scene::build_explicit() {
@@ -67,23 +88,7 @@ void Scene::build_explicit() {
     barbs_.linear = true;
     for (std::uint32_t fi = 0; fi < ex.fibres.size(); ++fi) {
       const ExplicitFibre& f = ex.fibres[fi];
-      // One chain of vertices per fibre, so that each piece's neighbours are the
-      // vertices before and after it (RTCCurveFlags) and the joints are smooth.
-      const std::size_t first_piece = barbs_.indices.size();
-      barbs_.vertices.push_back(bspline_point(&ex.control_points[f.first_cp], 0.0f));
-      for (std::uint32_t s = 0; s < f.segments(); ++s) {
-        const glm::vec4* cp = &ex.control_points[f.first_cp + s];
-        const int pieces = polyline_pieces(cp);
-        for (int k = 1; k <= pieces; ++k) {
-          const auto start = std::uint32_t(barbs_.vertices.size() - 1);
-          barbs_.vertices.push_back(bspline_point(cp, float(k) / float(pieces)));
-          barbs_.indices.push_back(start);
-          barbs_.prims.push_back({f.barb, start, fi});
-        }
-      }
-      for (std::size_t k = first_piece; k < barbs_.indices.size(); ++k)
-        barbs_.flags.push_back(std::uint8_t((k > first_piece ? RTC_CURVE_FLAG_NEIGHBOR_LEFT : 0) |
-                                            (k + 1 < barbs_.indices.size() ? RTC_CURVE_FLAG_NEIGHBOR_RIGHT : 0)));
+      append_polyline(barbs_, &ex.control_points[f.first_cp], f.segments(), f.barb, fi);
     }
     explicit_fibres_ = std::move(ex.fibres);
     g_explicit_segments += std::int64_t(barbs_.indices.size());

@@ -151,6 +151,11 @@ class Scene {
   void add_curves(CurveGeometry& g, std::initializer_list<CurveKind> kinds, int rtc_type);
   // The down barbs' tubes and their pass-through filter (down_scene.cpp).
   void build_down();
+  // Appends to the linear geometry `g` the curve of `segments` B-spline segments
+  // whose control points (x, y, z, radius) start at `cps` as one chain of round
+  // linear pieces within kPolylineTolerance of it (explicit_scene.cpp).
+  void append_polyline(CurveGeometry& g, const glm::vec4* cps, std::size_t segments, std::uint32_t curve,
+                       std::uint32_t fibre);
   void commit_curves(CurveGeometry& g, int rtc_type);
   // One BarbSubstructure per vane that has barbs, validated (`what` names the mode).
   void make_vanes(const char* what);
