@@ -70,13 +70,14 @@ void append_provenance_comment(std::string& out, const Feather& f, const char* c
   out += " shaft, ";
   append_int(out, f.count(CurveKind::Barb));
   out += " barbs, ";
-  if (const std::size_t down = f.count(CurveKind::Down)) {
+  const std::size_t down = f.count(CurveKind::Down);
+  if (down) {
     append_int(out, down);
     out += " down barbs, ";
   }
   append_int(out, f.num_control_points());
   out += " control points; units mm\n";
-  if (f.count(CurveKind::Down) && f.down_cover != 1.0f) {
+  if (down && f.down_cover != 1.0f) {
     out += comment;
     out += " down barbs: round curves the reach of their barbules, which Plumage fills ";
     append_float(out, f.down_cover);

@@ -35,6 +35,7 @@ void attach_down_filter(RTCGeometry geom, const Scene* scene) {
 // overlapping round B-spline curves cost Embree far more to intersect.
 void Scene::build_down() {
   down_.linear = true;
+  if (feather_.down_cover < 1.0f) down_.filter = CurveGeometry::Filter::Down;
   std::vector<glm::vec4> cps;
   for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci) {
     const Curve& c = feather_.curves[ci];

@@ -48,8 +48,7 @@ struct FilterCandidate {
     h = hash_combine(h, std::bit_cast<std::uint32_t>(d.y));
     h = hash_combine(h, std::bit_cast<std::uint32_t>(d.z));
     h = hash_combine(h, std::bit_cast<std::uint32_t>(t));
-    h = hash_combine(h, prim);
-    return float(h >> 8) * 0x1p-24f;
+    return to_unit(hash_combine(h, prim));
   }
 };
 

@@ -75,8 +75,7 @@ FibreFrame down_fibre_frame_at(const Scene& scene, const SurfaceHit& hit, const 
   // Two numbers fixed by where the ray met the tube.
   std::uint32_t h = hash_combine(std::bit_cast<std::uint32_t>(hit.p.x), std::bit_cast<std::uint32_t>(hit.p.y));
   h = hash_combine(h, std::bit_cast<std::uint32_t>(hit.p.z));
-  const float u1 = float(h >> 8) * 0x1p-24f;
-  const float u2 = float(hash_combine(h, hit.curve) >> 8) * 0x1p-24f;
+  const float u1 = to_unit(h), u2 = to_unit(hash_combine(h, hit.curve));
   const float elevation = float(scene.feather().substructure(scene.feather().curves[hit.curve].side).elevation_deg * kDegToRad);
   const float azimuth = 2.0f * kPiF * u1;
   const glm::vec3 barbule = std::cos(elevation) * t + std::sin(elevation) * (std::cos(azimuth) * around.b + std::sin(azimuth) * around.n);

@@ -81,7 +81,7 @@ glm::vec3 photo_albedo_to_fibre(const glm::vec3& area_albedo, float coverage, in
 void FibreMaterial::set_card(const glm::vec3& card, const CardResponse& response, bool absolute,
                              const glm::vec3& mean_gain, const CardResponse* down_response) {
   card_.emplace(response, card);
-  if (down_response)
+  if (down_response && down_response != &response)  // else at_down reads card_ through at()
     down_card_.emplace(*down_response, card);
   else
     down_card_.reset();

@@ -67,9 +67,6 @@ std::uint32_t laine_karras_permutation(std::uint32_t x, std::uint32_t seed) {
   return x;
 }
 
-// Top 24 bits as a float in [0, 1) (a float cannot hold more below 1).
-float to_unit(std::uint32_t x) { return float(x >> 8) * 0x1p-24f; }
-
 }  // namespace
 
 const char* to_string(SamplerKind k) { return k == SamplerKind::Sobol ? "sobol" : "independent"; }

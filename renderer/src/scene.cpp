@@ -89,12 +89,15 @@ Scene::Scene(const Feather& feather, const SceneOptions& options, std::shared_pt
   if (options_.mode == ShadingMode::Substructure) build_substructure("--shading substructure");
   if (options_.mode == ShadingMode::Farfield) build_farfield();
 
-  add_curves(shaft_, {CurveKind::Shaft}, RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE);
+  add_curves(shaft_, CurveKind::Shaft, RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE);
   build_down();
   switch (barb_geometry(options_.mode)) {
     case BarbGeometry::Structures: build_explicit(); break;
-    case BarbGeometry::VaneRibbon: add_curves(barbs_, {CurveKind::Barb}, RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE); break;
-    case BarbGeometry::FacingRibbon: add_curves(barbs_, {CurveKind::Barb}, RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE); break;
+    case BarbGeometry::VaneRibbon:
+      barbs_.filter = options_.mode == ShadingMode::Farfield ? CurveGeometry::Filter::Farfield : CurveGeometry::Filter::Gaps;
+      add_curves(barbs_, CurveKind::Barb, RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE);
+      break;
+    case BarbGeometry::FacingRibbon: add_curves(barbs_, CurveKind::Barb, RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE); break;
   }
   scene_bounds_ = bounds_;
   if (options_.backdrop.enabled) add_backdrop();
@@ -118,10 +121,10 @@ Scene::Scene(const Feather& feather, const SceneOptions& options, std::shared_pt
 
 Scene::~Scene() = default;
 
-void Scene::add_curves(CurveGeometry& g, std::initializer_list<CurveKind> kinds, int rtc_type) {
+void Scene::add_curves(CurveGeometry& g, CurveKind kind, int rtc_type) {
   for (std::uint32_t ci = 0; ci < feather_.curves.size(); ++ci) {
     const Curve& c = feather_.curves[ci];
-    if (std::find(kinds.begin(), kinds.end(), c.kind) == kinds.end() || !keep_[ci]) continue;
+    if (c.kind != kind || !keep_[ci]) continue;
     const auto first = std::uint32_t(g.vertices.size());
     first_cp_.resize(feather_.curves.size(), 0);
     first_cp_[ci] = first;
@@ -146,15 +149,15 @@ void Scene::commit_curves(CurveGeometry& g, int rtc_type) {
   if (!g.flags.empty())
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_FLAGS, 0, RTC_FORMAT_UCHAR, g.flags.data(), 0,
                                sizeof(std::uint8_t), g.flags.size());
-  if (rtc_type == RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE) {
+  if (rtc_type == RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE)
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, barb_normals_.data(), 0,
                                sizeof(glm::vec3), barb_normals_.size());
-    if (options_.mode == ShadingMode::Farfield)
-      attach_farfield_filter(geom, this);
-    else
-      attach_gap_filter(geom, this);
+  switch (g.filter) {
+    case CurveGeometry::Filter::Gaps: attach_gap_filter(geom, this); break;
+    case CurveGeometry::Filter::Farfield: attach_farfield_filter(geom, this); break;
+    case CurveGeometry::Filter::Down: attach_down_filter(geom, this); break;
+    case CurveGeometry::Filter::None: break;
   }
-  if (&g == &down_ && feather_.down_cover < 1.0f) attach_down_filter(geom, this);
   rtcCommitGeometry(geom);
   g.id = rtcAttachGeometry(rtc_->scene, geom);
   rtcReleaseGeometry(geom);

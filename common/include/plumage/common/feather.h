@@ -16,8 +16,8 @@ namespace plumage {
 // Shaft: the rachis and calamus. Barb: a pennaceous barb, drawn as a ribbon of the
 // vane's width (its barbules close the vane). Down: a plumulaceous barb (down, a
 // downy base, a plume): loose, thin and curling, its barbules sparse and unhooked,
-// so no closed vane; drawn as a round fibre of its own radius in every shading mode
-// (docs/curve-format.md, "Down").
+// so no closed vane; drawn in every shading mode as a round tube of its own radius
+// that its fibres fill to Feather::down_cover (docs/curve-format.md, "Down").
 enum class CurveKind { Shaft, Barb, Down };
 // The vane a barb belongs to. Seen from the dorsal side (+Z) with the tip up,
 // Left barbs lie at x < 0 of the shaft and Right barbs at x > 0.

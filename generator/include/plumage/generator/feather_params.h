@@ -57,8 +57,8 @@ struct SurfaceParams {
 inline constexpr double kMinDownRadiusMm = 0.001;
 
 // Loose, fluffy (plumulaceous) barbs near the base of the vane, built as down
-// barbs (CurveKind::Down): round fibres of their own radius, no ribbon, no closed
-// vane. A fraction of 1 makes the whole feather downy (a plume).
+// barbs (CurveKind::Down): round tubes of `radius` their fibres fill to `cover`, no
+// ribbon, no closed vane. A fraction of 1 makes the whole feather downy (a plume).
 struct AfterfeatherParams {
   bool enabled = false;
   double fraction = 0.15;       // basal fraction of the vane whose barbs are loose

@@ -111,7 +111,7 @@ class FibreMaterial {
   // on a dark texel as on a pale one, so a shift, not a scale, corrects it (a
   // texel shifted below 0 is taken as 0). 1 leaves the texels as they are.
   // `down_response`, when given, is the card response the down barbs' texels go
-  // through (at_down); else `response`.
+  // through (at_down); else, or when it is `response` itself, `response`.
   void set_card(const glm::vec3& card, const CardResponse& response, bool absolute = false,
                 const glm::vec3& mean_gain = glm::vec3(1.0f), const CardResponse* down_response = nullptr);
 

@@ -25,6 +25,8 @@ std::uint32_t nested_uniform_scramble(std::uint32_t x, std::uint32_t seed);
 std::uint32_t sobol(std::uint32_t i, int d);
 // A well-mixed 32-bit hash of a and b.
 std::uint32_t hash_combine(std::uint32_t a, std::uint32_t b);
+// A hash's top 24 bits as a float in [0, 1) (a float cannot hold more below 1).
+inline float to_unit(std::uint32_t x) { return float(x >> 8) * 0x1p-24f; }
 
 class PixelSampler {
  public:

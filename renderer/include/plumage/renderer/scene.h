@@ -13,7 +13,6 @@
 // view_cull.cpp the rule that leaves curves out.
 #include <cstdint>
 #include <functional>
-#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -135,6 +134,9 @@ class Scene {
     std::vector<Primitive> prims;
     bool linear = false;  // two vertices per primitive (round linear), else four (cubic B-spline)
     std::vector<std::uint8_t> flags;  // linear: per primitive, which neighbours it joins (RTCCurveFlags)
+    // Which filter lets rays through the geometry's empty space: substructure's gaps,
+    // the far-field transmittance, a down barb's open tube; none (every hit counts).
+    enum class Filter { None, Gaps, Farfield, Down } filter = Filter::None;
   };
   struct Embree;
 
@@ -147,8 +149,7 @@ class Scene {
   };
   static constexpr int kArcSamples = 8;  // per segment; linear in between
 
-  // Adds the kept curves of the kinds `kinds` to `g` and commits it as `rtc_type`.
-  void add_curves(CurveGeometry& g, std::initializer_list<CurveKind> kinds, int rtc_type);
+  void add_curves(CurveGeometry& g, CurveKind kind, int rtc_type);
   // The down barbs' tubes and their pass-through filter (down_scene.cpp).
   void build_down();
   // Appends to the linear geometry `g` the curve of `segments` B-spline segments

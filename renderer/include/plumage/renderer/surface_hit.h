@@ -10,7 +10,7 @@
 
 namespace plumage {
 
-// Down: a down barb (CurveKind::Down), a round fibre like the shaft.
+// Down: a down barb (CurveKind::Down), a round tube its fibres partly fill.
 enum class HitKind { None, Shaft, Barb, Down, Backdrop };
 
 struct SurfaceHit {
