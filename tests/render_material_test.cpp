@@ -3,7 +3,6 @@
 #include <unistd.h>
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cmath>
 #include <tuple>
 #include <filesystem>
@@ -279,14 +278,14 @@ TEST(RenderMaterial, CardResponseModelsAClosedVane) {
       EXPECT_NEAR(correct(glm::vec3(white)).albedo.x, 1.0f, 1e-4f) << c;
       EXPECT_EQ(correct(glm::vec3(white)).medulla_sigma_s, 0.0f) << c;
       EXPECT_EQ(correct(glm::vec3(white * 1.05f)).medulla_sigma_s, 0.0f) << c;  // within the margin: a clear fibre
-      const FibreColour paler = correct(glm::vec3(white * 1.25f)), palest = correct(glm::vec3(white * 100.0f));
+      const FibreColour paler = correct(glm::vec3(white * 1.15f)), palest = correct(glm::vec3(white * 100.0f));
       bool medulla_shows_more = false;  // on a white card a substructure vane's medulla may not
       for (int j = 1; j < CardResponse::kRows; ++j) medulla_shows_more |= r.seen(j, CardResponse::kNodes - 1, c) > white;
       if (medulla_shows_more) {
         EXPECT_GT(palest.medulla_sigma_s, 0.0f) << to_string(mode) << ", card " << c;
         EXPECT_GE(palest.medulla_sigma_s, paler.medulla_sigma_s) << to_string(mode) << ", card " << c;
       }
-      if (r.seen(CardResponse::kRows - 1, CardResponse::kNodes - 1, c) > 1.25f * white) {
+      if (r.seen(CardResponse::kRows - 1, CardResponse::kNodes - 1, c) > 1.15f * white) {
         EXPECT_GT(paler.medulla_sigma_s, 0.0f) << to_string(mode) << ", card " << c;
       }
       EXPECT_TRUE(palest.clamped);
@@ -312,60 +311,6 @@ TEST(RenderMaterial, CardResponseModelsAClosedVane) {
   EXPECT_GT(out.z, 0.0f);
   EXPECT_NEAR(out.x / out.z, brown.x / brown.z, 1e-4f);
   EXPECT_NEAR(out.y / out.z, brown.y / brown.z, 1e-4f);
-}
-
-// What the card-response table says a closed vane of `f`'s fibres shows over a card
-// of albedo c, seen / card per channel: the rows blended at its scattering, the
-// nodes at its albedo.
-glm::vec3 table_seen(const CardResponse& r, const FibreColour& f, float c) {
-  int hi = 1;
-  while (hi < CardResponse::kRows - 1 && r.rows[hi].medulla_sigma_s < f.medulla_sigma_s) ++hi;
-  const int lo = hi - 1;
-  const float t = std::clamp((f.medulla_sigma_s - r.rows[lo].medulla_sigma_s) /
-                                 (r.rows[hi].medulla_sigma_s - r.rows[lo].medulla_sigma_s), 0.0f, 1.0f);
-  glm::vec3 out;
-  for (int ch = 0; ch < 3; ++ch) {
-    const float a = f.albedo[ch];
-    int i = 1;
-    while (i < CardResponse::kNodes - 1 && r.rows[0].nodes[i].albedo < a) ++i;
-    const float a0 = r.rows[0].nodes[i - 1].albedo, a1 = r.rows[0].nodes[i].albedo;
-    const float u = std::clamp((a - a0) / (a1 - a0), 0.0f, 1.0f);
-    const auto row = [&](int n) { return r.seen(lo, n, c) + t * (r.seen(hi, n, c) - r.seen(lo, n, c)); };
-    out[ch] = row(i - 1) + u * (row(i) - row(i - 1));
-  }
-  return out;
-}
-
-TEST(RenderMaterial, TheInvertedFibreHasNoStepWhereTheMedullaBegins) {
-  // A texel brightened in small steps through the clear -> medulla margin (10-20 %
-  // beyond white clear fibres) and past it: what the table says its fibre shows
-  // moves by less than 1 % a step and its brightest channel never falls. A
-  // saturated pink (the pink feather's hue), a white and a pale buff, over a white,
-  // a grey and a black card. With a switch at the margin (the rule before this
-  // test) the pink's red jumped by 6 % over one step on a white card in hair mode
-  // (clear fibres to the last medulla row), and fell by 4 % in substructure mode,
-  // whose medulla rows show less than clear fibres over a white card.
-  constexpr int kSteps = 400;
-  for (ShadingMode mode : {ShadingMode::Hair, ShadingMode::Substructure}) {
-    const CardResponse& r = card_response(mode);
-    for (float c : {1.0f, 0.4f, 0.02f}) {
-      const CardCorrection correct(r, glm::vec3(c));
-      const float white = r.seen(0, CardResponse::kNodes - 1, c);
-      for (const glm::vec3 hue : {glm::vec3(1.0f, 0.52f, 0.55f), glm::vec3(1.0f), glm::vec3(1.0f, 0.85f, 0.6f)}) {
-        float worst_step = 0, worst_fall = 0;
-        glm::vec3 before = table_seen(r, correct(hue * (0.95f * white)), c);
-        for (int i = 1; i <= kSteps; ++i) {
-          const float k = 0.95f + 0.35f * float(i) / kSteps;  // 0.95 to 1.3 x white, 0.0875 % a step
-          const glm::vec3 now = table_seen(r, correct(hue * (k * white)), c);
-          for (int ch = 0; ch < 3; ++ch) worst_step = std::max(worst_step, std::abs(now[ch] - before[ch]) / before[ch]);
-          worst_fall = std::max(worst_fall, (before.x - now.x) / before.x);
-          before = now;
-        }
-        EXPECT_LT(worst_step, 0.01f) << to_string(mode) << ", card " << c << ", hue " << hue.y << " " << hue.z;
-        EXPECT_LT(worst_fall, 1e-3f) << to_string(mode) << ", card " << c << ", hue " << hue.y << " " << hue.z;
-      }
-    }
-  }
 }
 
 TEST(RenderMaterial, CardResponseFit) {

@@ -244,12 +244,6 @@ namespace {
 // white paper) keeps the clear fibre, whose albedo steers the other channels finely,
 // where the medulla rows' steep first step (A = 0 to 0.02) would not.
 constexpr float kMedullaMargin = 1.1f;
-// Between kMedullaMargin and this, the texel's fibre is blended from the clear one
-// to the one with a medulla (albedo and scattering, linear in the brightest channel),
-// so that a render's colour is continuous in the texel's: with a step there, a
-// colour calibration whose gain moved the pink feather's red across the margin
-// saw its green jump by a sixth and could not settle (docs/hair-bcsdf.md).
-constexpr float kMedullaBlendEnd = 1.2f;
 
 // The albedo at which a row's seen / card (linear between its nodes) equals s:
 // 0 at or below the first node, 1 above the last.
@@ -271,65 +265,28 @@ FibreColour CardCorrection::operator()(const glm::vec3& seen) const {
   glm::vec3 s;
   for (int i = 0; i < 3; ++i) s[i] = std::isfinite(seen[i]) ? std::max(seen[i], 0.0f) : 0.0f;
   const float top = std::max({s.x, s.y, s.z});
-  const float white = seen_[0][CardResponse::kNodes - 1];
-  if (top <= kMedullaMargin * white) return clear(s);
-  const FibreColour med = medulla(s);
-  if (top >= kMedullaBlendEnd * white) return med;
-  // The band between, in two halves. In the first the fibre stays clear and its
-  // albedo goes from the clear rule's (the luminance inverted, the hue kept, which
-  // shows a saturated colour's weaker channels a little off) to each channel
-  // inverted on its own; in the second the scattering rises from 0 to the
-  // medulla's, every channel inverted on the table at that scattering (what it
-  // cannot reach is clamped: the brightest channel reaches the texel at the end).
-  const float w = (top / white - kMedullaMargin) / (kMedullaBlendEnd - kMedullaMargin);
-  if (w < 0.5f) {
-    const FibreColour cl = clear(s), own = medulla_at(s, 0.0f);
-    FibreColour out;
-    out.albedo = cl.albedo + (2 * w) * (own.albedo - cl.albedo);
-    out.clamped = med.clamped;
-    return out;
-  }
-  // The scattering is the one a texel dimmed toward white clear fibres needs (its
-  // brightest channel from white to its own, linearly), so what the fibre shows
-  // rises evenly: the table's light grows steeply with the first bit of medulla.
-  const float v = 2 * w - 1;
-  const float dimmed = (white + v * (top - white)) / top;
-  FibreColour out = medulla_at(s, medulla(s * dimmed).medulla_sigma_s);
-  out.clamped = med.clamped;
-  return out;
-}
-
-// A clear fibre. Inverted on the luminance and applied to every channel as one
-// factor: per channel, a dark texel whose blue lies under what black fibres show
-// but whose red does not would turn a brown vane yellow.
-FibreColour CardCorrection::clear(const glm::vec3& s) const {
-  FibreColour out;
-  const float ls = luminance(s);
-  if (!(ls > 0)) return out;
-  const float a = invert_row(albedo_, [&](int i) { return seen_[0][i]; }, ls);
-  out.albedo = glm::clamp(s * (a / ls), glm::vec3(0.0f), glm::vec3(1.0f));
-  return out;
-}
-
-// Paler than white clear fibres: each channel on the table over its own card
-// channel (the medulla's light is mostly sent back without reaching the card, so
-// a pink card shows a white vane greener than a grey one). The scattering is the
-// largest that any channel's white fibres need to show it (linear in sigma_s
-// between the first row that reaches it and the row before), and each channel's
-// albedo is inverted on its table blended at that scattering.
-FibreColour CardCorrection::medulla(const glm::vec3& s) const {
   constexpr int last = CardResponse::kNodes - 1;
   FibreColour out;
+  if (top <= kMedullaMargin * seen_[0][last]) {
+    // A clear fibre. Inverted on the luminance and applied to every channel as one
+    // factor: per channel, a dark texel whose blue lies under what black fibres show
+    // but whose red does not would turn a brown vane yellow.
+    const float ls = luminance(s);
+    if (!(ls > 0)) return out;
+    const float a = invert_row(albedo_, [&](int i) { return seen_[0][i]; }, ls);
+    out.albedo = glm::clamp(s * (a / ls), glm::vec3(0.0f), glm::vec3(1.0f));
+    return out;
+  }
+  // Paler than white clear fibres: each channel on the table over its own card
+  // channel (the medulla's light is mostly sent back without reaching the card, so
+  // a pink card shows a white vane greener than a grey one). The scattering is the
+  // largest that any channel's white fibres need to show it (linear in sigma_s
+  // between the first row that reaches it and the row before), and each channel's
+  // albedo is inverted on its table blended at that scattering.
   float sigma = 0.0f;
   for (int c = 0; c < 3; ++c) {
     const auto& rows = seen_rgb_[c];
-    // Beyond every row's reach: the scattering whose white fibres show the most
-    // (the last row, or none at all where the medulla rows show less than clear
-    // fibres, as substructure's do over a white card).
-    int most = 0;
-    for (int j = 1; j < CardResponse::kRows; ++j)
-      if (rows[j][last] > rows[most][last]) most = j;
-    float need = sigma_s_[most];
+    float need = sigma_s_[CardResponse::kRows - 1];
     bool reached = false;
     for (int j = 1; j < CardResponse::kRows && !reached; ++j)
       if (s[c] <= rows[j][last]) {
@@ -341,16 +298,6 @@ FibreColour CardCorrection::medulla(const glm::vec3& s) const {
     if (!reached) out.clamped = true;
     sigma = std::max(sigma, need);
   }
-  const bool clamped = out.clamped;
-  out = medulla_at(s, sigma);
-  out.clamped = out.clamped || clamped;
-  return out;
-}
-
-// Each channel's albedo inverted on its table blended at scattering `sigma`.
-FibreColour CardCorrection::medulla_at(const glm::vec3& s, float sigma) const {
-  constexpr int last = CardResponse::kNodes - 1;
-  FibreColour out;
   out.medulla_sigma_s = sigma;
   int hi = 1;
   while (hi < CardResponse::kRows - 1 && sigma_s_[hi] < sigma) ++hi;

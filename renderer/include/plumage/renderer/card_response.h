@@ -80,12 +80,7 @@ struct FibreColour {
 //   its scattering is the largest that any channel's white fibres need to show it
 //   (linear in sigma_s between the first row that reaches it and the row before),
 //   then each channel's A is inverted on its table blended at that scattering.
-//   Channels beyond the table's reach are clamped (and the texel counted);
-// * from 10 % to 20 % brighter than white clear fibres, a blend so the fibre
-//   follows the texel without a step: over the first half a clear fibre whose
-//   albedo goes from the first rule's to each channel inverted on its own; over the
-//   second the scattering rises from 0 to the second rule's, every channel
-//   inverted on the table at that scattering.
+//   Channels beyond the table's reach are clamped (and the texel counted).
 // `card` is clamped to at least 1e-3; non-finite channels count as 0 (seen) or 1
 // (card). Built once per card, applied per texel.
 class CardCorrection {
@@ -99,9 +94,6 @@ class CardCorrection {
   Table seen_;                    // over the card's luminance (clear fibres)
   std::array<Table, 3> seen_rgb_;  // over each channel of the card (fibres with a medulla)
   std::array<float, CardResponse::kRows> sigma_s_;
-  FibreColour clear(const glm::vec3& seen) const;    // the first rule below
-  FibreColour medulla(const glm::vec3& seen) const;  // the second
-  FibreColour medulla_at(const glm::vec3& seen, float sigma) const;  // its inversion at a given scattering
 };
 
 // CardCorrection(r, card)(seen).albedo, for one texel.
