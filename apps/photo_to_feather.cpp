@@ -35,6 +35,7 @@ struct Options {
     ViewOptions v{"", ""};
     v.spp = 8;
     v.seed = 1;
+    v.denoise = true;  // the panels are compared with a photo: grain is what a person would see first
     return v;
   }
 };

@@ -95,6 +95,7 @@ struct ViewOptions {
   std::string resolution;
   int spp = 16;
   bool adaptive = false;
+  bool denoise = false;
   std::string allocation = to_string(RenderSettings{}.allocation);
   float target_error = 0.02f;
   int min_spp = 16;
@@ -124,11 +125,11 @@ struct ViewOptions {
   // that takes one (render, compare, photo-to-feather, export, bench) adds it
   // from here, so a value means and is checked the same in all of them.
   enum class Opt {
-    Resolution, Spp, Allocation, Adaptive, TargetError, MinSpp, Seed, MaxDepth, Lights, LightPick, Rig, Threads,
-    Cull, Exposure, Backdrop, Projection, CameraPos, LookAt, Up, Fov, Margin
+    Resolution, Spp, Allocation, Adaptive, TargetError, MinSpp, Denoise, Seed, MaxDepth, Lights, LightPick, Rig,
+    Threads, Cull, Exposure, Backdrop, Projection, CameraPos, LookAt, Up, Fov, Margin
   };
   static constexpr Opt kSampling[] = {Opt::Spp,      Opt::Allocation, Opt::Adaptive,  Opt::TargetError,
-                                      Opt::MinSpp,   Opt::Seed,       Opt::MaxDepth,  Opt::Lights,
+                                      Opt::MinSpp,   Opt::Denoise,    Opt::Seed,      Opt::MaxDepth,  Opt::Lights,
                                       Opt::LightPick, Opt::Rig,       Opt::Threads};
   static constexpr Opt kFraming[] = {Opt::Resolution, Opt::Cull, Opt::Exposure, Opt::Backdrop, Opt::Projection,
                                      Opt::CameraPos,  Opt::LookAt, Opt::Up,     Opt::Fov,      Opt::Margin};
@@ -177,6 +178,12 @@ struct ViewOptions {
             ->capture_default_str()
             ->check(in_range(1, kMaxSpp))
             ->needs("--adaptive");
+      case Opt::Denoise:
+        return app.add_flag("--denoise,!--no-denoise", denoise,
+                            std::string("Filter each render by its own per-pixel variance (non-local means): far less "
+                                        "grain, a slight blur of what differs by less than the noise (") +
+                                (denoise ? "on unless --no-denoise" : "off unless --denoise") +
+                                "); docs/rendering.md, \"Denoising\"");
       case Opt::Seed:
         return app.add_option("--seed", seed, "Random seed; the same seed gives the same image at any --threads")
             ->capture_default_str();
@@ -287,6 +294,7 @@ struct ViewOptions {
     ViewSpec v;
     v.spp = spp;
     v.adaptive = adaptive;
+    v.denoise = denoise;
     v.allocation = parse_sample_allocation(allocation);
     v.target_error = target_error;
     v.min_spp = min_spp;

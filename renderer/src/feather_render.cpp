@@ -1,4 +1,5 @@
 #include "plumage/renderer/feather_render.h"
+#include "plumage/renderer/denoise.h"
 #include "plumage/common/image.h"
 
 #include <cmath>
@@ -79,7 +80,15 @@ Image render_view(const World& world, const DomeRig& rig, const ViewSpec& view) 
   rs.min_spp = view.min_spp;
   rs.tile_index = view.tile_index;
   rs.tile_count = view.tile_count;
-  return render(camera, integrator, rs).developed(exposure_for(world, lights, view));
+  if (view.denoise && view.tile_count > 1)
+    throw Error("--denoise filters the whole image, so a part of a split render (--tile) cannot take it; "
+                "render the parts without it");
+  const Film film = render(camera, integrator, rs);
+  const float exposure = exposure_for(world, lights, view);
+  if (!view.denoise) return film.developed(exposure);
+  DenoiseSettings ds;
+  ds.threads = view.threads;
+  return denoise(film.developed(exposure), film.developed_variance(exposure), ds);
 }
 
 }  // namespace plumage

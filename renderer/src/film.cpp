@@ -30,7 +30,7 @@ float border_luminance(const Image& img) {
   return *mid;
 }
 
-Film::Film(int width, int height) : image_(width, height, 3) {}
+Film::Film(int width, int height) : image_(width, height, 3), variance_(width, height, 3) {}
 
 Image Film::developed(float exposure) const {
   const float k = std::exp2(exposure);
@@ -39,6 +39,13 @@ Image Film::developed(float exposure) const {
                 "give a finite exposure in [-64, 64]");
   Image out = image_;
   for (float& v : out.pixels) v = std::isnan(v) ? 0.0f : std::clamp(v * k, -FLT_MAX, FLT_MAX);
+  return out;
+}
+
+Image Film::developed_variance(float exposure) const {
+  const float k = std::exp2(2 * exposure);
+  Image out = variance_;
+  for (float& v : out.pixels) v = std::isfinite(v * k) ? v * k : (std::isnan(v) ? 0.0f : FLT_MAX);
   return out;
 }
 

@@ -146,7 +146,7 @@ Film render(const Camera& camera, const PathIntegrator& integrator, const Render
   ProgressBar progress("Rendering", std::uint64_t(tiles_x) * tiles_y * (allocate ? 2 : 1), !settings.progress);
 
   // Per pixel: the radiance sum, the samples taken, and (pilot) luminance moments.
-  std::vector<glm::dvec3> sum(P, glm::dvec3(0));
+  std::vector<glm::dvec3> sum(P, glm::dvec3(0)), sum_sq(P, glm::dvec3(0));
   std::vector<int> taken(P, 0);
   std::vector<double> variance(allocate ? P : 0), cost(allocate ? P : 0);
   std::vector<int> target(P, pilot);
@@ -166,7 +166,7 @@ Film render(const Camera& camera, const PathIntegrator& integrator, const Render
     for (int y = ty * T; y < std::min(H, (ty + 1) * T); ++y)
       for (int x = tx * T; x < std::min(W, (tx + 1) * T); ++x) {
         const std::size_t i = std::size_t(y) * W + x;
-        glm::dvec3 s = sum[i];
+        glm::dvec3 s = sum[i], s2 = sum_sq[i];
         double lum = 0, lum_sq = 0;
         int n = taken[i];
         const std::int64_t rays_before = counters.rays + counters.shadow_rays;
@@ -176,6 +176,7 @@ Film render(const Camera& camera, const PathIntegrator& integrator, const Render
           const Ray ray = camera.generate(float(x) + u.x, float(y) + u.y);
           const glm::dvec3 L(integrator.Li(ray, sampler, counters));
           s += L;
+          s2 += L * L;
           ++n;
           if (!settings.adaptive && !(allocate && first_pass)) continue;
           const double Y = 0.2126 * L.x + 0.7152 * L.y + 0.0722 * L.z;  // Rec. 709 luminance
@@ -191,6 +192,7 @@ Film render(const Camera& camera, const PathIntegrator& integrator, const Render
           cost[i] = double(counters.rays + counters.shadow_rays - rays_before) / n;  // rays per sample
         }
         sum[i] = s;
+        sum_sq[i] = s2;
         taken[i] = n;
       }
     g_saved += saved;
@@ -223,8 +225,12 @@ Film render(const Camera& camera, const PathIntegrator& integrator, const Render
   std::int64_t samples = 0;
   for (std::size_t i = 0; i < P; ++i) {
     samples += taken[i];
-    if (!outside(i))
-      film.set(int(i % std::size_t(W)), int(i / std::size_t(W)), glm::vec3(sum[i] / double(std::max(taken[i], 1))));
+    if (outside(i)) continue;
+    const int x = int(i % std::size_t(W)), y = int(i / std::size_t(W)), n = taken[i];
+    const glm::dvec3 mean = sum[i] / double(std::max(n, 1));
+    film.set(x, y, glm::vec3(mean));
+    if (n > 1)  // the samples' variance (Bessel-corrected) over n: the variance of the mean
+      film.set_variance(x, y, glm::vec3(glm::max(sum_sq[i] - double(n) * mean * mean, glm::dvec3(0)) / (double(n) * (n - 1))));
   }
   g_samples += samples;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

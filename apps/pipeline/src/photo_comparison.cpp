@@ -160,6 +160,7 @@ PhotoComparison compare_with_photo(const Image& photo, const Layout& layout, con
     probe.spp = std::max(1, view.spp / std::max(1, cs.spp_divisor));
     probe.allocation = SampleAllocation::Uniform;
     probe.adaptive = false;
+    probe.denoise = false;  // read for its mean (one sample a pixel has no variance to filter by)
     probe.progress = false;
     const auto probe_mean = [&](const glm::vec3& gain) {
       probe.photo_gain = gain;

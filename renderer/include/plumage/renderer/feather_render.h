@@ -58,6 +58,9 @@ struct ViewSpec {
   int min_spp = 16;
   LightPick light_pick = IntegratorSettings{}.light_pick;  // next-event estimation's choice of light
   int tile_index = 0, tile_count = 1;  // RenderSettings: one part of a split render
+  // Filter the render by its own per-pixel variance (denoise.h); biased, so off by
+  // default.
+  bool denoise = false;
 };
 
 // The lights of `view`: the rig's selected LEDs, the rig standing on the

@@ -18,15 +18,21 @@ class Film {
   Film(int width, int height);
   // Each pixel is written by one tile only, so no locking.
   void set(int x, int y, const glm::vec3& mean_radiance) { image_.set_rgb(x, y, mean_radiance); }
+  // Per channel, the variance of the pixel's mean (the samples' variance over
+  // their count; 0 where fewer than two samples were taken).
+  void set_variance(int x, int y, const glm::vec3& variance_of_mean) { variance_.set_rgb(x, y, variance_of_mean); }
   int width() const { return image_.width; }
   int height() const { return image_.height; }
   // The image scaled by 2^exposure, each value kept within ±FLT_MAX so that no
   // written image holds Inf. Throws plumage::Error when 2^exposure is not finite.
   Image developed(float exposure) const;
   void write(const std::filesystem::path& path, float exposure) const;
+  // The variances scaled as developed() scales the means (by 4^exposure).
+  Image developed_variance(float exposure) const;
 
  private:
   Image image_;
+  Image variance_;
 };
 
 }  // namespace plumage
