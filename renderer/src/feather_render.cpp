@@ -80,6 +80,7 @@ Image render_view(const World& world, const DomeRig& rig, const ViewSpec& view) 
   rs.min_spp = view.min_spp;
   rs.tile_index = view.tile_index;
   rs.tile_count = view.tile_count;
+  rs.keep_variance = view.denoise;
   if (view.denoise && view.tile_count > 1)
     throw Error("--denoise filters the whole image, so a part of a split render (--tile) cannot take it; "
                 "render the parts without it");

@@ -30,7 +30,8 @@ float border_luminance(const Image& img) {
   return *mid;
 }
 
-Film::Film(int width, int height) : image_(width, height, 3), variance_(width, height, 3) {}
+Film::Film(int width, int height, bool with_variance)
+    : image_(width, height, 3), variance_(with_variance ? Image(width, height, 3) : Image()) {}
 
 Image Film::developed(float exposure) const {
   const float k = std::exp2(exposure);
@@ -43,6 +44,8 @@ Image Film::developed(float exposure) const {
 }
 
 Image Film::developed_variance(float exposure) const {
+  if (variance_.empty() && width() > 0 && height() > 0)
+    throw Error("the film was rendered without its variance (RenderSettings::keep_variance)");
   const float k = std::exp2(2 * exposure);
   Image out = variance_;
   for (float& v : out.pixels) v = std::isfinite(v * k) ? v * k : (std::isnan(v) ? 0.0f : FLT_MAX);

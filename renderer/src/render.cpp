@@ -142,11 +142,11 @@ Film render(const Camera& camera, const PathIntegrator& integrator, const Render
   const int pilot = allocate ? settings.spp / 4 : settings.spp;
   const TileRows rows = tile_rows(H, settings.tile_index, settings.tile_count);
   const auto outside = [&](std::size_t i) { return int(i / std::size_t(W)) < rows.first || int(i / std::size_t(W)) >= rows.last; };
-  Film film(W, H);
+  Film film(W, H, settings.keep_variance);
   ProgressBar progress("Rendering", std::uint64_t(tiles_x) * tiles_y * (allocate ? 2 : 1), !settings.progress);
 
   // Per pixel: the radiance sum, the samples taken, and (pilot) luminance moments.
-  std::vector<glm::dvec3> sum(P, glm::dvec3(0)), sum_sq(P, glm::dvec3(0));
+  std::vector<glm::dvec3> sum(P, glm::dvec3(0)), sum_sq(settings.keep_variance ? P : 0, glm::dvec3(0));
   std::vector<int> taken(P, 0);
   std::vector<double> variance(allocate ? P : 0), cost(allocate ? P : 0);
   std::vector<int> target(P, pilot);
@@ -166,7 +166,7 @@ Film render(const Camera& camera, const PathIntegrator& integrator, const Render
     for (int y = ty * T; y < std::min(H, (ty + 1) * T); ++y)
       for (int x = tx * T; x < std::min(W, (tx + 1) * T); ++x) {
         const std::size_t i = std::size_t(y) * W + x;
-        glm::dvec3 s = sum[i], s2 = sum_sq[i];
+        glm::dvec3 s = sum[i], s2 = settings.keep_variance ? sum_sq[i] : glm::dvec3(0);
         double lum = 0, lum_sq = 0;
         int n = taken[i];
         const std::int64_t rays_before = counters.rays + counters.shadow_rays;
@@ -192,7 +192,7 @@ Film render(const Camera& camera, const PathIntegrator& integrator, const Render
           cost[i] = double(counters.rays + counters.shadow_rays - rays_before) / n;  // rays per sample
         }
         sum[i] = s;
-        sum_sq[i] = s2;
+        if (settings.keep_variance) sum_sq[i] = s2;
         taken[i] = n;
       }
     g_saved += saved;
@@ -229,7 +229,7 @@ Film render(const Camera& camera, const PathIntegrator& integrator, const Render
     const int x = int(i % std::size_t(W)), y = int(i / std::size_t(W)), n = taken[i];
     const glm::dvec3 mean = sum[i] / double(std::max(n, 1));
     film.set(x, y, glm::vec3(mean));
-    if (n > 1)  // the samples' variance (Bessel-corrected) over n: the variance of the mean
+    if (settings.keep_variance && n > 1)  // the samples' variance (Bessel-corrected) over n: the variance of the mean
       film.set_variance(x, y, glm::vec3(glm::max(sum_sq[i] - double(n) * mean * mean, glm::dvec3(0)) / (double(n) * (n - 1))));
   }
   g_samples += samples;

@@ -60,6 +60,9 @@ struct RenderSettings {
   // (each part pays that quarter of the samples everywhere).
   int tile_index = 0;
   int tile_count = 1;
+  // Keep each pixel's variance of the mean in the film (Film::developed_variance),
+  // for a filter that needs it (denoise.h): 24 more bytes a pixel while rendering.
+  bool keep_variance = false;
 };
 
 // The rows [first, last) part `index` of `count` renders of an image `height` rows tall.
