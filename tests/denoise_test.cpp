@@ -44,8 +44,8 @@ Image clean_picture(int W, int H) {
 
 TEST(Denoise, NoiseGoesAndTheEdgesStay) {
   // Gaussian noise of a known standard deviation (0.05, the variance of each
-  // pixel's mean told to the filter): the filtered picture is at least 2.5 times
-  // closer to the clean one than the noisy one (RMS), the step keeps its height
+  // pixel's mean told to the filter; RMS 0.050 -> 0.007): the filtered picture is
+  // at least 2.5 times closer to the clean one than the noisy one (RMS), the step keeps its height
   // (the columns beside it within 0.03 of their clean values, where a box blur of the
   // window would move them by 0.3) and the one-pixel line keeps most of its height.
   constexpr int W = 96, H = 64;
@@ -156,8 +156,11 @@ TEST(Denoise, TheFilmsVarianceIsTheNoiseBetweenSeeds) {
   // What the filter is told: with keep_variance the film holds each pixel's
   // variance of its mean. Two renders of seeds 1 and 2 differ by noise alone, so
   // the mean over pixels of (a - b)^2 / 2 estimates the mean variance; the films'
-  // mean variance matches it within 20 % per channel (uniform allocation, 16 spp,
-  // 48x40 pixels), and a film made without variance refuses to give one.
+  // mean variance matches it within 10 % per channel (independent samples, uniform
+  // allocation, 16 spp, 48x40 pixels; Owen-scrambled Sobol samples differ between
+  // seeds by less than their spread suggests, 16 % less here, so the filter is told
+  // a little more noise than there is), and a film made without variance refuses
+  // to give one.
   SceneOptions so;
   so.backdrop = {true, glm::vec3(0.8f)};
   const Scene scene(test::make_test_feather(30.0f, 0.8f, 0.06f), so);
@@ -172,6 +175,7 @@ TEST(Denoise, TheFilmsVarianceIsTheNoiseBetweenSeeds) {
   rs.progress = false;
   rs.allocation = SampleAllocation::Uniform;
   rs.keep_variance = true;
+  rs.sampler = SamplerKind::Independent;
   rs.seed = 1;
   const Film a = render(camera, integrator, rs);
   rs.seed = 2;
@@ -186,7 +190,7 @@ TEST(Denoise, TheFilmsVarianceIsTheNoiseBetweenSeeds) {
         told += 0.5 * (double(va.at(x, y)[c]) + vb.at(x, y)[c]);
       }
     ASSERT_GT(between, 0.0) << c;
-    EXPECT_NEAR(told / between, 1.0, 0.2) << "channel " << c;
+    EXPECT_NEAR(told / between, 1.0, 0.1) << "channel " << c;
   }
   rs.keep_variance = false;
   EXPECT_THROW(render(camera, integrator, rs).developed_variance(0), Error);
@@ -195,7 +199,8 @@ TEST(Denoise, TheFilmsVarianceIsTheNoiseBetweenSeeds) {
 TEST(Denoise, ARenderComesCloserToItsReference) {
   // The rock dove under the dome in both shading modes, 48x48 at 8 spp, with and
   // without the filter, against the same view at 256 spp (another seed): the
-  // filtered render is at least 1.6 times closer (RMS), and its mean within 1 % of
+  // filtered render is at least 1.6 times closer (RMS; 0.186 -> 0.096 in hair mode,
+  // 0.312 -> 0.129 in substructure mode), and its mean within 1 % of
   // the reference's (what it blurs, it keeps).
   const Feather f = build_feather(load_preset("rock-dove-wing"), 1, "preset:rock-dove-wing");
   const DomeRig rig = read_dome_rig(fs::path(PLUMAGE_DATA_DIR) / "rigs/dome25.json");

@@ -20,7 +20,7 @@ namespace plumage {
 struct DenoiseSettings {
   int radius = 5;        // window: (2 radius + 1)^2 neighbours
   int patch = 1;         // patch: (2 patch + 1)^2 pixels
-  float k = 0.45f;       // the weights' width in units of the noise
+  float k = 0.7f;        // the weights' width in units of the noise (docs/rendering.md, "Denoising")
   float alpha = 1.0f;    // how much of the noise difference is taken out
   int threads = 0;       // 0 = all cores
 };
