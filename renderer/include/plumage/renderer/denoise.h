@@ -12,7 +12,8 @@
 // to how far its true colour can be from the pixel's, in units of the noise.
 // Where the noise is 0 only equal patches mix, so a converged render is returned
 // as it is. Biased (it trades noise for a blur of what differs by less than the
-// noise), so it is an option (`--denoise`), measured in docs/perf/p2f.md.
+// noise): off in `render` and `compare`, on in `photo-to-feather`; measured in
+// docs/rendering.md, "Denoising".
 #include "plumage/common/image.h"
 
 namespace plumage {
