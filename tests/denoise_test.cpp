@@ -11,6 +11,7 @@
 #include "plumage/generator/presets.h"
 #include "plumage/renderer/denoise.h"
 #include "plumage/renderer/dome_rig.h"
+#include "plumage/renderer/error_ladder.h"
 #include "plumage/renderer/feather_render.h"
 #include "plumage/renderer/render.h"
 #include "render_test_feather.h"
@@ -20,12 +21,6 @@ using namespace plumage;
 namespace fs = std::filesystem;
 
 namespace {
-
-double rms_difference(const Image& a, const Image& b) {
-  double s = 0;
-  for (std::size_t i = 0; i < a.pixels.size(); ++i) s += double(a.pixels[i] - b.pixels[i]) * (a.pixels[i] - b.pixels[i]);
-  return std::sqrt(s / double(a.pixels.size()));
-}
 
 // A clean picture: a dark half with a gentle ramp, a step to a light half, and a
 // one-pixel light line in the dark half; RGB of different levels.
@@ -56,7 +51,7 @@ TEST(Denoise, NoiseGoesAndTheEdgesStay) {
   std::normal_distribution<float> noise(0.0f, kSigma);
   for (float& v : noisy.pixels) v += noise(rng);
   const Image out = denoise(noisy, variance);
-  const double before = rms_difference(noisy, clean), after = rms_difference(out, clean);
+  const double before = rmse(noisy, clean), after = rmse(out, clean);
   EXPECT_LT(after, before / 2.5) << before << " -> " << after;
   for (int x : {W / 2 - 1, W / 2}) {
     double m = 0, c = 0;
@@ -164,9 +159,7 @@ TEST(Denoise, TheFilmsVarianceIsTheNoiseBetweenSeeds) {
   SceneOptions so;
   so.backdrop = {true, glm::vec3(0.8f)};
   const Scene scene(test::make_test_feather(30.0f, 0.8f, 0.06f), so);
-  LightSet lights;
-  lights.set_environment(EnvironmentLight(glm::vec3(0.4f)));
-  lights.add(SphereLight{scene.feather_bounds().centre() + glm::vec3(20, 10, 60), 4.0f, glm::vec3(200.0f)});
+  const LightSet lights = test::grey_sky_and_lamp(scene.feather_bounds());
   const FibreMaterial material(HairParams{});
   const PathIntegrator integrator(scene, lights, material, IntegratorSettings{});
   const Camera camera(CameraSpec{}, 48, 40, scene.feather_bounds());
@@ -226,7 +219,7 @@ TEST(Denoise, ARenderComesCloserToItsReference) {
     const Image raw = render_view(scene, rig, v);
     v.denoise = true;
     const Image filtered = render_view(scene, rig, v);
-    const double e_raw = rms_difference(raw, reference), e_filtered = rms_difference(filtered, reference);
+    const double e_raw = rmse(raw, reference), e_filtered = rmse(filtered, reference);
     EXPECT_LT(e_filtered * 1.6, e_raw) << to_string(m) << ": " << e_raw << " -> " << e_filtered;
     double mean_f = 0, mean_r = 0;
     for (std::size_t i = 0; i < reference.pixels.size(); ++i) {

@@ -4,8 +4,10 @@
 // gently cupped barbs leaving it at 45 degrees toward the tip.
 #include <cmath>
 
+#include "plumage/common/bounds.h"
 #include "plumage/common/feather.h"
 #include "plumage/common/image.h"
+#include "plumage/renderer/light_set.h"
 
 namespace plumage::test {
 
@@ -15,6 +17,15 @@ inline double mean_channel(const Image& img, int c) {
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) s += img.at(x, y)[c];
   return s / (double(img.width) * img.height);
+}
+
+// A grey sky (0.4) and one lamp above and beside the feather: light from every
+// side, with a highlight and shadows.
+inline LightSet grey_sky_and_lamp(const Bounds3f& feather_bounds) {
+  LightSet lights;
+  lights.set_environment(EnvironmentLight(glm::vec3(0.4f)));
+  lights.add(SphereLight{feather_bounds.centre() + glm::vec3(20, 10, 60), 4.0f, glm::vec3(200.0f)});
+  return lights;
 }
 
 inline Feather make_test_feather(float length = 60.0f, float barb_spacing = 0.5f, float barb_radius = 0.05f) {

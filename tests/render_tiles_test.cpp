@@ -33,9 +33,7 @@ TEST(RenderTiles, PartsMergeToTheSingleRenderBitForBit) {
   SceneOptions so;
   so.backdrop = {true, glm::vec3(0.8f)};
   const Scene scene(test::make_test_feather(30.0f, 0.8f, 0.06f), so);
-  LightSet lights;
-  lights.set_environment(EnvironmentLight(glm::vec3(0.4f)));
-  lights.add(SphereLight{scene.feather_bounds().centre() + glm::vec3(20, 10, 60), 4.0f, glm::vec3(200.0f)});
+  const LightSet lights = test::grey_sky_and_lamp(scene.feather_bounds());
   const FibreMaterial material(HairParams{});
   const PathIntegrator integrator(scene, lights, material, IntegratorSettings{});
   const Camera camera(CameraSpec{}, 37, 29, scene.feather_bounds());  // sizes no band count divides

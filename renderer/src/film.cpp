@@ -33,23 +33,31 @@ float border_luminance(const Image& img) {
 Film::Film(int width, int height, bool with_variance)
     : image_(width, height, 3), variance_(with_variance ? Image(width, height, 3) : Image()) {}
 
+namespace {
+// `img` times k, each value kept within ±FLT_MAX and a NaN product read as 0, so
+// that no written image holds Inf or NaN.
+Image scaled(const Image& img, float k) {
+  Image out = img;
+  for (float& v : out.pixels) {
+    const float s = v * k;
+    v = std::isnan(s) ? 0.0f : std::clamp(s, -FLT_MAX, FLT_MAX);
+  }
+  return out;
+}
+}  // namespace
+
 Image Film::developed(float exposure) const {
   const float k = std::exp2(exposure);
   if (!std::isfinite(k))
     throw Error("exposure " + std::to_string(exposure) + " stops scales pixels by a factor a float cannot hold; "
                 "give a finite exposure in [-64, 64]");
-  Image out = image_;
-  for (float& v : out.pixels) v = std::isnan(v) ? 0.0f : std::clamp(v * k, -FLT_MAX, FLT_MAX);
-  return out;
+  return scaled(image_, k);
 }
 
 Image Film::developed_variance(float exposure) const {
   if (variance_.empty() && width() > 0 && height() > 0)
     throw Error("the film was rendered without its variance (RenderSettings::keep_variance)");
-  const float k = std::exp2(2 * exposure);
-  Image out = variance_;
-  for (float& v : out.pixels) v = std::isfinite(v * k) ? v * k : (std::isnan(v) ? 0.0f : FLT_MAX);
-  return out;
+  return scaled(variance_, std::exp2(2 * exposure));
 }
 
 void Film::write(const std::filesystem::path& path, float exposure) const { write_image(path, developed(exposure)); }
