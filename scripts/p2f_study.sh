@@ -27,14 +27,14 @@ cases=(
   "spoonbill-wing-sheet.png 5 wing feather on black, grid"
   "blue-jay-feather-sheet.jpg 9 top tail feather, lying across"
   "blue-jay-feather-sheet.jpg 12 small body feather"
-  "blue-jay-feather-sheet.jpg 40 tail feather, upright"
+  "blue-jay-feather-sheet.jpg 41 tail feather, upright"
   "european-goldfinch-feather-sheet.jpg 19 single feather at the right of the bottom row"
   "european-robin-feather-sheet.jpg 14 upright body feather"
   "european-robin-feather-sheet.jpg 41 upright body feather"
   "peregrine-falcon-feather-sheet.jpg 13 largest on the sheet"
   "peregrine-falcon-feather-sheet.jpg 10 from the same row"
-  "blue-jay-feather-sheet.jpg 16 white downy feather on the grey card"
-  "blue-jay-feather-sheet.jpg 25 white downy plume on the grey card"
+  "blue-jay-feather-sheet.jpg 15 white downy feather on the grey card"
+  "blue-jay-feather-sheet.jpg 26 white downy plume on the grey card"
 )
 
 grid_of() {

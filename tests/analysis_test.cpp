@@ -690,7 +690,7 @@ TEST(AnalysisRealPhotos, SmallFeathersWithoutAQuillAreReadFromTheirBase) {
     bool lying_across;  // quill at the left, else at the bottom
   };
   for (const Case c : {Case{"blue-jay-feather-sheet.jpg", 12, false}, Case{"blue-jay-feather-sheet.jpg", 13, false},
-                       Case{"blue-jay-feather-sheet.jpg", 19, false}, Case{"blue-jay-feather-sheet.jpg", 22, false},
+                       Case{"blue-jay-feather-sheet.jpg", 20, false}, Case{"blue-jay-feather-sheet.jpg", 22, false},
                        Case{"european-robin-feather-sheet.jpg", 19, false},
                        Case{"european-goldfinch-feather-sheet.jpg", 35, true}}) {
     SCOPED_TRACE(std::string(c.photo) + " F" + std::to_string(c.feather));

@@ -15,8 +15,6 @@
 namespace plumage::analysis {
 using namespace thresholds::segmentation;
 
-namespace {
-
 // Faint feathers side by side, as glued in a row on a band (the blue-jay
 // sheet's grey downy feathers): each plume is denser than the fluff where two
 // plumes meet. The colour distance summed across the region, along each of
@@ -28,14 +26,15 @@ namespace {
 // above the level that joined it (its filled holes weigh nothing). Smoothing:
 // kRowSmooth of the square root of the region's area. On that sheet the plumes
 // stand out by 0.22-0.95 (at 0.75x, 1x and 1.5x, and turned a quarter); each
-// drawn plume alone is one peak. Returns the pieces when there are two or
+// drawn plume alone is one peak (`reading` sets the smoothing and the aspect
+// below; a row of white plumes reads with its own). Returns the pieces when there are two or
 // more, each a feather in size (`min_area`, kMinPiece of the largest) and
 // standing across the row, at least kMinPlumeAspect times as long along the cut
 // as it is wide across the row (those plumes 2.07-3.20; a plume cut from its
 // own downy base, where the direction found runs along one feather, 0.73-1.17;
 // tufts on a string 1.36-2.02, a row of them 0.73-2.13); otherwise nothing.
 std::vector<Component> split_faint_row(const Component& region, const cv::Mat& own, const cv::Mat& dist,
-                                       const cv::Size& image, double min_area) {
+                                       const cv::Size& image, double min_area, const RowReading& reading) {
   struct Px {
     int x, y;
     double w;  // 0 in the region's holes (filled, but card)
@@ -49,7 +48,7 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
       if (m[x]) px.push_back({x, y, o[x] ? double(d[x]) : 0.0});
   }
   if (px.empty()) return {};
-  const double sigma = std::max(kRowMinSigmaPx, kRowSmooth * std::sqrt(double(cv::countNonZero(own))));
+  const double sigma = std::max(kRowMinSigmaPx, reading.smooth * std::sqrt(double(cv::countNonZero(own))));
   const int reach = int(std::ceil(kRowKernelSigmas * sigma));
   std::vector<double> kernel(std::size_t(2 * reach + 1));
   for (int k = -reach; k <= reach; ++k) kernel[std::size_t(k + reach)] = std::exp(-0.5 * k * k / (sigma * sigma));
@@ -85,44 +84,150 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
   for (const Peak& p : profile_peaks(v))
     if (p.prominence >= kRowProminence * most) plumes.push_back(p.at);
   if (plumes.size() < 2) return {};
-  std::vector<double> cuts;  // profile positions between neighbouring plumes
+  // The cuts between neighbouring plumes: lines s = at + slope (t - t_pivot)
+  // (s across the row from the profile's start, t along the feathers), straight
+  // across the row at the profile's lowest point between the two; with a tilt
+  // allowed (reading.max_tilt_deg) and the row's base end known, the line
+  // through the gap between their bases, at any tilt up to it, over the fewest
+  // of the region's own pixels (weighed as in the profile): plumes that lean
+  // apart are cut along the gap between them, each with its own base.
+  struct Cut {
+    double at = 0, slope = 0;
+  };
+  double t_min = 1e300, t_max = -1e300;
+  for (const Px& p : px) {
+    const double t = -p.x * best.uy + p.y * best.ux;
+    t_min = std::min(t_min, t), t_max = std::max(t_max, t);
+  }
+  const double t_mid = 0.5 * (t_min + t_max);
+  std::vector<Cut> cuts;
   for (std::size_t i = 0; i + 1 < plumes.size(); ++i)
-    cuts.push_back(double(std::min_element(v.begin() + plumes[i], v.begin() + plumes[i + 1]) - v.begin()));
-  const std::size_t n = plumes.size();
-  std::vector<cv::Mat> masks(n);
-  for (cv::Mat& m : masks) m = cv::Mat::zeros(region.mask.size(), CV_8U);
-  // Each piece's extent across the row (along u) and along its feathers (t).
+    cuts.push_back({double(std::min_element(v.begin() + plumes[i], v.begin() + plumes[i + 1]) - v.begin()), 0.0});
   // Feathers in a row join at their bases (a glue band, downy bases): along the
   // cuts, the region's own pixels lie toward that end. When their mean lies
   // kBaseSide of the region's extent along the feathers off its middle, each
   // piece's base is its end on that side (the blue-jay sheet's two groups:
   // 0.20-0.23 and 0.11-0.13 toward their bands at 0.75x, 1x and 1.5x and turned
   // a quarter).
+  int base_side = 0;  // +1: toward larger t, -1: toward smaller t
+  {
+    double t_sum = 0;  // over the region's own pixels within 1 px of a cut
+    int t_count = 0;
+    for (const Px& p : px) {
+      if (p.w <= 0) continue;
+      const double s = p.x * best.ux + p.y * best.uy - best.s0, t = -p.x * best.uy + p.y * best.ux;
+      for (const Cut& c : cuts)
+        if (std::fabs(s - c.at) <= 1.0) t_sum += t, ++t_count;
+    }
+    if (t_count > 0) {
+      const double off = t_sum / t_count - t_mid;
+      if (std::fabs(off) >= kBaseSide * (t_max - t_min)) base_side = off > 0 ? 1 : -1;
+    }
+  }
+  double t_pivot = t_mid;  // where leaning cuts turn
+  double base_band = 0;    // and the base band's length (px)
+  if (reading.max_tilt_deg > 0 && base_side != 0) {
+    // Leaning cuts turn about the gap between two bases, in the band of the row
+    // kBaseBand of its length from its base end, and lean along the gap
+    // between the plumes above.
+    const int rows_t = int(std::lround(t_max - t_min)) + 1, cols_s = int(v.size());
+    cv::Mat grid = cv::Mat::zeros(rows_t, cols_s, CV_64F);  // the own pixels' weights on the (t, s) grid
+    for (const Px& p : px) {
+      const double s = p.x * best.ux + p.y * best.uy - best.s0, t = -p.x * best.uy + p.y * best.ux;
+      const int si = int(std::lround(s)), ti = int(std::lround(t - t_min));
+      if (si >= 0 && si < cols_s && ti >= 0 && ti < rows_t) grid.at<double>(ti, si) += p.w;
+    }
+    const int band = std::max(1, int(std::lround(kBaseBand * rows_t)));
+    const int band_lo = base_side > 0 ? rows_t - band : 0;
+    t_pivot = t_min + band_lo + 0.5 * band;
+    base_band = band;
+    // The band's own profile, smoothed as the row's: a peak per base. Only
+    // when it shows one base per plume do the cuts lean.
+    std::vector<double> raw(std::size_t(cols_s), 0.0), base_profile(std::size_t(cols_s), 0.0);
+    for (int ti = band_lo; ti < band_lo + band; ++ti)
+      for (int si = 0; si < cols_s; ++si) raw[std::size_t(si)] += grid.at<double>(ti, si);
+    for (int i = 0; i < cols_s; ++i)
+      for (int k = -reach; k <= reach; ++k)
+        if (i + k >= 0 && i + k < cols_s) base_profile[std::size_t(i)] += kernel[std::size_t(k + reach)] * raw[std::size_t(i + k)];
+    const double base_most = *std::max_element(base_profile.begin(), base_profile.end());
+    std::vector<int> bases;
+    for (const Peak& p : profile_peaks(base_profile))
+      if (p.prominence >= kRowProminence * base_most) bases.push_back(p.at);
+    std::sort(bases.begin(), bases.end());
+    const int steps = bases.size() == plumes.size() ? int(std::floor(reading.max_tilt_deg / (180.0 / kRowAngles))) : -1;
+    for (std::size_t i = 0; i + 1 < plumes.size() && steps >= 0; ++i) {
+      const int at = int(std::min_element(base_profile.begin() + bases[i], base_profile.begin() + bases[i + 1]) -
+                         base_profile.begin());
+      double least = 1e300;
+      for (int a = 0; a <= 2 * steps; ++a) {
+        const int k = (a + 1) / 2 * (a % 2 ? 1 : -1);  // 0, 1, -1, 2, -2, ...: the straighter first on a tie
+        const double slope = std::tan(k * kPi / kRowAngles);
+        double mass = 0;
+        for (int ti = 0; ti < rows_t && mass < least; ++ti) {
+          const int si = int(std::lround(at + slope * (ti + t_min - t_pivot)));
+          const double* g = grid.ptr<double>(ti);
+          for (int d = -1; d <= 1; ++d)
+            if (si + d >= 0 && si + d < cols_s) mass += g[si + d];
+        }
+        if (mass < least) least = mass, cuts[i] = {double(at), slope};
+      }
+    }
+  }
+  // Which piece a pixel is in: how many cuts lie on its lower side.
+  auto piece_of = [&](double s, double t) {
+    std::size_t k = 0;
+    for (const Cut& c : cuts) k += s >= c.at + c.slope * (t - t_pivot);
+    return k;
+  };
+  const std::size_t n = plumes.size();
+  std::vector<cv::Mat> masks(n);
+  for (cv::Mat& m : masks) m = cv::Mat::zeros(region.mask.size(), CV_8U);
+  // Each piece's extent across the row (along u, less its lean) and along its
+  // feathers (t). A piece between leaning cuts leans as they do on average: its
+  // extent across is measured, and its base placed, along that lean.
+  std::vector<double> lean(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    double sum = 0;
+    int count = 0;
+    if (i > 0) sum += cuts[i - 1].slope, ++count;
+    if (i < cuts.size()) sum += cuts[i].slope, ++count;
+    lean[i] = count ? sum / count : 0.0;
+  }
   std::vector<double> lo_u(n, 1e300), hi_u(n, -1e300), lo_v(n, 1e300), hi_v(n, -1e300);
-  double t_sum = 0;  // over the region's own pixels within 1 px of a cut
-  int t_count = 0;
+  std::vector<std::vector<double>> spread(n);  // leaning cuts: each piece's pixels across
+  std::vector<double> base_lo(n, 1e300), base_hi(n, -1e300);  // and its extent across in the base band
   for (const Px& p : px) {
     const double s = p.x * best.ux + p.y * best.uy - best.s0, t = -p.x * best.uy + p.y * best.ux;
-    const auto piece = std::size_t(std::upper_bound(cuts.begin(), cuts.end(), s) - cuts.begin());
+    const std::size_t piece = piece_of(s, t);
     masks[piece].at<uchar>(p.y, p.x) = 255;
-    lo_u[piece] = std::min(lo_u[piece], s), hi_u[piece] = std::max(hi_u[piece], s);
+    const double across = s - lean[piece] * (t - t_pivot);
+    if (t_pivot != t_mid && std::fabs(t - t_pivot) <= 0.5 * base_band)
+      base_lo[piece] = std::min(base_lo[piece], s), base_hi[piece] = std::max(base_hi[piece], s);
+    lo_u[piece] = std::min(lo_u[piece], across), hi_u[piece] = std::max(hi_u[piece], across);
+    if (reading.max_tilt_deg > 0) spread[piece].push_back(across);
     lo_v[piece] = std::min(lo_v[piece], t), hi_v[piece] = std::max(hi_v[piece], t);
-    if (p.w > 0)
-      for (double cut : cuts)
-        if (std::fabs(s - cut) <= 1.0) t_sum += t, ++t_count;
+  }
+  // Between leaning cuts the fluff a plume spreads past its neighbour's cut
+  // widens its extent: its width there is the middle kWidthShare of its pixels.
+  std::vector<double> width(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    width[i] = hi_u[i] - lo_u[i] + 1;
+    if (spread[i].size() < 2) continue;
+    std::sort(spread[i].begin(), spread[i].end());
+    const double m = spread[i].size() - 1.0, cut = 0.5 * (1 - kWidthShare);
+    width[i] = spread[i][std::size_t(std::lround((1 - cut) * m))] - spread[i][std::size_t(std::lround(cut * m))] + 1;
   }
   for (std::size_t i = 0; i < n; ++i)
-    if (hi_v[i] - lo_v[i] < kMinPlumeAspect * (hi_u[i] - lo_u[i] + 1)) return {};
-  const double t_lo = *std::min_element(lo_v.begin(), lo_v.end()), t_hi = *std::max_element(hi_v.begin(), hi_v.end());
-  int base_side = 0;  // +1: toward larger t, -1: toward smaller t
-  if (t_count > 0) {
-    const double off = t_sum / t_count - 0.5 * (t_lo + t_hi);
-    if (std::fabs(off) >= kBaseSide * (t_hi - t_lo)) base_side = off > 0 ? 1 : -1;
-  }
+    if (hi_v[i] - lo_v[i] < reading.min_aspect * width[i]) return {};
   std::vector<Component> pieces;
   double largest = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const cv::Mat& m = masks[i];
+    cv::Mat& m = masks[i];
+    // Plumes on a thread (leaning cuts: the white row): the thread between
+    // their bases, a few pixels thin, is no part of a plume's outline.
+    if (t_pivot != t_mid)
+      cv::morphologyEx(m, m, cv::MORPH_OPEN,
+                       cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(kThreadOpenPx, kThreadOpenPx)));
     const cv::Rect box = cv::boundingRect(m);
     if (box.empty()) return {};
     Component c;
@@ -134,8 +239,14 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
     measure_shape(c, image);
     c.separated_from = int(n);
     if (base_side != 0) {
-      const double s = 0.5 * (lo_u[i] + hi_u[i]) + best.s0, t = base_side > 0 ? hi_v[i] : lo_v[i];
+      const double t = base_side > 0 ? hi_v[i] : lo_v[i];
+      const double s = 0.5 * (lo_u[i] + hi_u[i]) + lean[i] * (t - t_pivot) + best.s0;
       c.base_px = cv::Point2d(s * best.ux - t * best.uy, s * best.uy + t * best.ux) + cv::Point2d(region.bbox.tl());
+      if (t_pivot != t_mid && base_lo[i] <= base_hi[i]) {
+        // Leaning cuts: the calamus is the middle of the piece across its base band.
+        const double q = 0.5 * (base_lo[i] + base_hi[i]) + best.s0;
+        c.quill_px = cv::Point2d(q * best.ux - t * best.uy, q * best.uy + t * best.ux) + cv::Point2d(region.bbox.tl());
+      }
     }
     largest = std::max(largest, c.area);
     pieces.push_back(std::move(c));
@@ -144,8 +255,6 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
     if (c.area < std::max(min_area, kMinPiece * largest)) return {};
   return pieces;
 }
-
-}  // namespace
 
 // Faint feathers (grey down on a grey card) clear the colour threshold only in
 // patches: their outline there is drawn by the fluff's grain, not by the

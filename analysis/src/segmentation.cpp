@@ -121,11 +121,12 @@ void grow_into_texture(const cv::Mat& bgr, cv::Mat& labels) {
 // that both do, so two white tips that touch never join their feathers; a pale
 // part no feather lies along is a feather of its own. `bin`: the feathers found
 // by colour (0/255), on return without the pale pixels; returns one label per
-// pixel (0 background), feathers numbered from 1, each label one feather.
+// pixel (0 background), feathers numbered from 1, each label one feather or
+// one row of white plumes (marked in `row_of_plumes`, 0/255; below).
 // Cards this light or lighter (kPaleCardMax) leave no room for paler parts; dark cards (kPaleCardMin) have
 // none lighter than the feather itself (its colour already stands out).
 cv::Mat label_with_pale_parts(const cv::Mat& bgr, cv::Mat& bin, double sigma, const cv::Mat& open_k,
-                              double min_area, cv::Mat& pale) {
+                              double min_area, cv::Mat& pale, cv::Mat& row_of_plumes) {
   cv::Mat grey;
   cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
   grey.convertTo(grey, CV_32F);
@@ -220,6 +221,7 @@ cv::Mat label_with_pale_parts(const cv::Mat& bgr, cv::Mat& bin, double sigma, co
   }
   cv::Mat labels, stats, centroids;
   const int n = cv::connectedComponentsWithStats(bin, labels, stats, centroids, 8, CV_32S);
+  row_of_plumes = cv::Mat::zeros(bin.size(), CV_8U);
   if (cv::countNonZero(pale) == 0) return labels;
 
   // Each pale pixel joins a feather whose pixels reach it first, growing through
@@ -286,9 +288,13 @@ cv::Mat label_with_pale_parts(const cv::Mat& bgr, cv::Mat& bin, double sigma, co
     if (pixels > most[part]) most[part] = pixels, most_id[part] = int(key % n);
   }
   std::vector<int> part_area(std::size_t(np), 0);
+  std::vector<cv::Rect> part_box(static_cast<std::size_t>(np));
   for (int y = 0; y < pale_parts.rows; ++y) {
     const int* pp = pale_parts.ptr<int>(y);
-    for (int x = 0; x < pale_parts.cols; ++x) ++part_area[std::size_t(pp[x])];
+    for (int x = 0; x < pale_parts.cols; ++x) {
+      const auto part = std::size_t(pp[x]);
+      part_box[part] = part_area[part]++ ? part_box[part] | cv::Rect(x, y, 1, 1) : cv::Rect(x, y, 1, 1);
+    }
   }
   // A white tip is a fraction of its feather; a downy plume many times its base.
   std::vector<char> owned(std::size_t(np), 0);
@@ -297,7 +303,51 @@ cv::Mat label_with_pale_parts(const cv::Mat& bgr, cv::Mat& bin, double sigma, co
     owned[std::size_t(part)] = best > 0 && feather_sized[std::size_t(best)] &&
                                stats.at<int>(best, cv::CC_STAT_AREA) >= kOwnerArea * part_area[std::size_t(part)];
   }
+  // White downy feathers whose plumes touch, each on a grey base too small or
+  // too faint to seed it well (the blue-jay sheet's row of four white plumes,
+  // their bases joined by the thread they are glued on): a flood from the bases
+  // would cut the plumes where the floods meet, halfway between the bases rather
+  // than between the plumes, and a plume whose base seeds nothing would go to
+  // its neighbour. A part no feather owns, at least kCutPartAreas feathers in
+  // size, whose own distance-transform core falls into pieces (find_cores,
+  // separate.h), is a row of plumes: with its bases (seeds in contact with it,
+  // each under kOwnerArea of it divided among its pieces) it becomes one region
+  // of its own, which segment_feathers cuts along the row (split_faint_row,
+  // rows.h) or reports as several feathers.
+  cv::Mat row_id = cv::Mat::zeros(bin.size(), CV_32S);  // 1..: each row of plumes with its bases
+  std::vector<char> cut_part(std::size_t(np), 0), is_base(std::size_t(n), 0);
+  int rows = 0;
+  for (int part = 1; part < np; ++part) {
+    if (owned[std::size_t(part)] || part_area[std::size_t(part)] < kCutPartAreas * min_area) continue;
+    const cv::Rect box = part_box[std::size_t(part)];
+    const Cores cores = find_cores(pale_parts(box) == part);
+    if (cores.n < 2) continue;
+    cut_part[std::size_t(part)] = 1;
+    ++rows;
+    for (int y = box.y; y < box.br().y; ++y)
+      for (int x = box.x; x < box.br().x; ++x)
+        if (pale_parts.at<int>(y, x) == part) row_id.at<int>(y, x) = rows;
+    for (int id = 1; id < n; ++id)
+      if (seed[std::size_t(id)] && contact.count(std::int64_t(part) * n + id) &&
+          stats.at<int>(id, cv::CC_STAT_AREA) < kOwnerArea * part_area[std::size_t(part)] / cores.n) {
+        is_base[std::size_t(id)] = 1;
+        const cv::Rect b(stats.at<int>(id, cv::CC_STAT_LEFT), stats.at<int>(id, cv::CC_STAT_TOP),
+                         stats.at<int>(id, cv::CC_STAT_WIDTH), stats.at<int>(id, cv::CC_STAT_HEIGHT));
+        for (int y = b.y; y < b.br().y; ++y)
+          for (int x = b.x; x < b.br().x; ++x)
+            if (labels.at<int>(y, x) == id) row_id.at<int>(y, x) = rows;
+      }
+  }
+  // Bases of rows seed nothing: their pixels are the row's.
+  if (rows > 0)
+    queue.erase(std::remove_if(queue.begin(), queue.end(), [&](const cv::Point& p) {
+                  if (!is_base[std::size_t(labels.at<int>(p))]) return false;
+                  labels.at<int>(p) = 0;
+                  return true;
+                }),
+                queue.end());
   auto may_enter = [&](int part, int id) {
+    if (cut_part[std::size_t(part)]) return false;
     const auto it = contact.find(std::int64_t(part) * n + id);
     if (it == contact.end()) return false;
     if (owned[std::size_t(part)])
@@ -331,7 +381,7 @@ cv::Mat label_with_pale_parts(const cv::Mat& bgr, cv::Mat& bin, double sigma, co
   // above it). Card just over the level beside translucent grey fluff, which
   // darkens the card's average around it, is not (25 levels on the blue-jay
   // sheet, the level there 15).
-  cv::Mat alone = (pale | bin) & (labels == 0), alone_labels;
+  cv::Mat alone = (pale | bin) & (labels == 0) & (row_id == 0), alone_labels;
   const int na = cv::connectedComponents(alone, alone_labels, 8, CV_32S);
   if (na > 1) {
     std::vector<float> whitest(std::size_t(na), -1e30f);
@@ -346,6 +396,19 @@ cv::Mat label_with_pale_parts(const cv::Mat& bgr, cv::Mat& bin, double sigma, co
       int* l = labels.ptr<int>(y);
       for (int x = 0; x < alone_labels.cols; ++x)
         if (a[x] && whitest[std::size_t(a[x])] >= kAloneLevels * level) l[x] = n - 1 + a[x];
+    }
+  }
+  row_of_plumes = row_id > 0;
+  if (rows > 0) {
+    // Each row of plumes is a region of its own, labelled after every other.
+    double top = 0;
+    cv::minMaxLoc(labels, nullptr, &top);
+    const int after = int(top);
+    for (int y = 0; y < labels.rows; ++y) {
+      int* l = labels.ptr<int>(y);
+      const int* p = row_id.ptr<int>(y);
+      for (int x = 0; x < labels.cols; ++x)
+        if (p[x] > 0) l[x] = after + p[x];
     }
   }
   return labels;
@@ -486,9 +549,10 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
   const double bg_luma = luma_bgr(bg);
   std::vector<std::vector<cv::Point>> contours;
   cv::Mat found;  // the pixels the regions were outlined from (holes not filled)
+  cv::Mat row_of_plumes;  // white plumes that touch, each region of them cut along its row below
   if (bg_luma >= kPaleCardMin && bg_luma <= kPaleCardMax) {
     cv::Mat pale;
-    cv::Mat labels = label_with_pale_parts(bgr, bin, sigma, open_k, min_area, pale);
+    cv::Mat labels = label_with_pale_parts(bgr, bin, sigma, open_k, min_area, pale, row_of_plumes);
     grow_into_texture(bgr, labels);
     found = labels > 0;
     seg.foreground |= found;
@@ -569,6 +633,20 @@ Segmentation segment_feathers(const cv::Mat& bgr) {
     Component& comp = kept[i];
     if (comp.area < kMinRelativeArea * largest || text[i]) continue;
     comp.mask = filled(comp.contour, comp.bbox);
+    if (!row_of_plumes.empty() && 2 * cv::countNonZero(comp.mask & row_of_plumes(comp.bbox)) > cv::countNonZero(comp.mask)) {
+      // A row of white plumes (label_with_pale_parts): cut along the row, each
+      // plume from its base, or reported as several feathers.
+      measure_shape(comp, bgr.size());
+      std::vector<Component> row = split_faint_row(comp, found(comp.bbox) & comp.mask, dist, bgr.size(), min_area,
+                                                   {kWhiteRowSmooth, kMinWhitePlumeAspect, kWhiteRowTilt});
+      if (!row.empty()) {
+        for (Component& c : row) seg.feathers.push_back(std::move(c));
+        continue;
+      }
+      comp.unseparated = true;
+      seg.feathers.push_back(std::move(comp));
+      continue;
+    }
     close_barb_gaps(comp);
     Cores cores = find_cores(comp.mask);
     comp.cores = cores.n;

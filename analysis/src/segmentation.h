@@ -31,6 +31,11 @@ struct Component {
   // (segmentation.cpp, split_faint_row). The shaft tracer then takes the end
   // nearer it for the calamus.
   std::optional<cv::Point2d> base_px;
+  // Where its calamus is (a white plume cut from its row, rows.cpp): the shaft
+  // tracer straightens it along the line from there to the mask's farthest
+  // point, the plume's own axis, instead of along its principal axis (fluff
+  // spread to one side tilts that).
+  std::optional<cv::Point2d> quill_px;
   // > 0: this feather is one of a shingled row of that many, cut out of its
   // region along the quills (quills.cpp, split_by_quills); `row_rest` (bbox-sized,
   // 0/255) marks the row's other feathers' pixels in this box: where they meet

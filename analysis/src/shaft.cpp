@@ -823,6 +823,13 @@ Shaft trace_along(const cv::Mat& bgr, const Component& f, const cv::Point2d& c, 
 Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
   cv::Point2d c, e;
   principal_axis(f, c, e);
+  if (f.quill_px) {
+    double far = 0;
+    cv::Point2d tip = *f.quill_px;
+    for (const cv::Point& p : f.contour)
+      if (const double d = cv::norm(cv::Point2d(p) - *f.quill_px); d > far) far = d, tip = cv::Point2d(p);
+    if (far > 0) e = (tip - *f.quill_px) / far;
+  }
   return trace_along(bgr, f, c, e, true);
 }
 

@@ -115,6 +115,18 @@ inline constexpr int kRowKernelSigmas = 3;
 inline constexpr double kRowProminence = 0.15;
 // each piece this many times as long along the cut as wide: plumes 2.07-3.20 above, a plume cut lengthwise 0.73-1.17 below; blue-jay sheet
 inline constexpr double kMinPlumeAspect = 1.8;
+// a row of white plumes on a grey card (label_with_pale_parts): profile smoothing as kRowSmooth's; at 2 % the white fluff's barbs pick the direction (21 deg off the row on the blue-jay sheet), at 4-6 % the row (3-6 deg), at 8 % two plumes merge
+inline constexpr double kWhiteRowSmooth = 0.06;
+// a row of white plumes: each piece this many times as long as wide (kWidthShare); their fluff spreads wider than grey plumes (blue-jay 1.66-2.90 at kWhiteRowSmooth and kWhiteRowTilt), a plume cut lengthwise 0.73-1.17
+inline constexpr double kMinWhitePlumeAspect = 1.4;
+// a row of white plumes: a cut may lean this far (deg) to run along the gap between plumes that lean apart (blue-jay: the first plume leans 10-15 deg off its neighbour)
+inline constexpr double kWhiteRowTilt = 24.0;
+// leaning cuts turn about the gap between two bases in this share of the row's length from its base end (a white plume's grey base: a fifth to a third of it on the blue-jay sheet)
+inline constexpr double kBaseBand = 0.25;
+// a white plume's piece is opened by a disc this wide (px), so the thread its row is glued on (2-4 px on the blue-jay sheet) leaves its outline
+inline constexpr int kThreadOpenPx = 9;
+// between leaning cuts a piece's width is the middle this share of its pixels across (fluff spreads past a neighbour's cut); convention, not tuned
+inline constexpr double kWidthShare = 0.9;
 // cuts' own pixels this share of the extent off the middle: the base is on that side (blue-jay groups 0.20-0.23, 0.11-0.13); else not said
 inline constexpr double kBaseSide = 0.08;
 
@@ -163,6 +175,8 @@ inline constexpr double kOwnerArea = 0.25;
 inline constexpr double kMinContact = 0.5;
 // unowned part (downy plumes on grey bases): seeds with at least this share of the most contact share it; docs "Pale parts" (5 %)
 inline constexpr double kMinBaseContact = 0.05;
+// an unowned pale part this many smallest feathers in size, whose core falls into pieces, is cut between them (white plumes that touch); docs "Pale parts"
+inline constexpr double kCutPartAreas = 2.0;
 // a pale part alone is a feather when this many times the level lighter somewhere: white down 90-100 levels above, blue-jay card by fluff 25 (level 15)
 inline constexpr double kAloneLevels = 2.0;
 
