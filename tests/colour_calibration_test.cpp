@@ -2,6 +2,7 @@
 // search on responses of known form, whose answer is known, and on hostile ones.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -76,6 +77,40 @@ TEST(ColourCalibration, AProbeThrownOffIsFollowedByTheMidpointAndNoStepBeyond) {
   EXPECT_NEAR(c.probes[2].gain.x, 1.03f, 1e-5);
   EXPECT_LT(c.probes[2].de2000, c.probes[0].de2000);
   EXPECT_EQ(c.gain, c.probes[2].gain);
+}
+
+// A white plume whose render cannot reach the photo's white (blue-jay F26 in
+// substructure mode): each channel rises with its gain up to its own knee, where
+// its texels clamp at the brightest fibre, the red's knee a little higher. Past
+// the knees a step toward the photo barely moves the render; following the red
+// on, the search had taken gains (1.57, 1.29, 1.30) and tinted the plume pink.
+// It goes back to the gains before the saturated step, which differ by the
+// photo's own colour, not by the knees.
+struct Saturating {
+  glm::vec3 slope, knee;
+  glm::vec3 operator()(const glm::vec3& g) const {
+    glm::vec3 r;
+    for (int k = 0; k < 3; ++k) r[k] = std::min(slope[k] * g[k], knee[k] + 0.02f * slope[k] * g[k]);
+    return r;
+  }
+};
+
+TEST(ColourCalibration, ASaturatingRenderGoesBackToTheGainsBeforeTheSaturatedStep) {
+  const Saturating r{{0.70f, 0.68f, 0.67f}, {0.77f, 0.73f, 0.72f}};
+  const glm::vec3 photo(0.855f, 0.808f, 0.800f);
+  CalibrationSettings s;
+  s.tolerance_de = 0.0;
+  const ColourCalibration c = calibrate_colour(std::cref(r), photo, s);
+  ASSERT_EQ(c.probes.size(), 3u);
+  // The second probe (the ratio step) is past the knees; the third, on the secant,
+  // barely moved the render: the result is the second probe's gain.
+  EXPECT_EQ(c.gain, c.probes[1].gain);
+  const float spread = std::max({c.gain.x, c.gain.y, c.gain.z}) / std::min({c.gain.x, c.gain.y, c.gain.z});
+  EXPECT_LT(spread, 1.03f);
+  // A response that keeps rising (no knee) is still followed past the second probe.
+  const Saturating open{{0.70f, 0.68f, 0.67f}, {9.0f, 9.0f, 9.0f}};
+  const ColourCalibration d = calibrate_colour(std::cref(open), photo, s);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(open(d.gain)[k], photo[k], 1e-3f) << k;
 }
 
 TEST(ColourCalibration, NoProbesIsNoCalibration) {

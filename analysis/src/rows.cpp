@@ -195,14 +195,14 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
   }
   std::vector<double> lo_u(n, 1e300), hi_u(n, -1e300), lo_v(n, 1e300), hi_v(n, -1e300);
   std::vector<std::vector<double>> spread(n);  // leaning cuts: each piece's pixels across
-  std::vector<double> base_lo(n, 1e300), base_hi(n, -1e300);  // and its extent across in the base band
+  std::vector<double> base_sw(n, 0.0), base_w(n, 0.0);  // and its own pixels' weighted sum across in the base band
   for (const Px& p : px) {
     const double s = p.x * best.ux + p.y * best.uy - best.s0, t = -p.x * best.uy + p.y * best.ux;
     const std::size_t piece = piece_of(s, t);
     masks[piece].at<uchar>(p.y, p.x) = 255;
     const double across = s - lean[piece] * (t - t_pivot);
     if (t_pivot != t_mid && std::fabs(t - t_pivot) <= 0.5 * base_band)
-      base_lo[piece] = std::min(base_lo[piece], s), base_hi[piece] = std::max(base_hi[piece], s);
+      base_sw[piece] += p.w * s, base_w[piece] += p.w;
     lo_u[piece] = std::min(lo_u[piece], across), hi_u[piece] = std::max(hi_u[piece], across);
     if (reading.max_tilt_deg > 0) spread[piece].push_back(across);
     lo_v[piece] = std::min(lo_v[piece], t), hi_v[piece] = std::max(hi_v[piece], t);
@@ -242,9 +242,9 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
       const double t = base_side > 0 ? hi_v[i] : lo_v[i];
       const double s = 0.5 * (lo_u[i] + hi_u[i]) + lean[i] * (t - t_pivot) + best.s0;
       c.base_px = cv::Point2d(s * best.ux - t * best.uy, s * best.uy + t * best.ux) + cv::Point2d(region.bbox.tl());
-      if (t_pivot != t_mid && base_lo[i] <= base_hi[i]) {
-        // Leaning cuts: the calamus is the middle of the piece across its base band.
-        const double q = 0.5 * (base_lo[i] + base_hi[i]) + best.s0;
+      if (t_pivot != t_mid && base_w[i] > 0) {
+        // Leaning cuts: the calamus is where the piece's base band weighs, across.
+        const double q = base_sw[i] / base_w[i] + best.s0;
         c.quill_px = cv::Point2d(q * best.ux - t * best.uy, q * best.uy + t * best.ux) + cv::Point2d(region.bbox.tl());
       }
     }

@@ -828,7 +828,23 @@ Shaft trace_shaft(const cv::Mat& bgr, const Component& f) {
     cv::Point2d tip = *f.quill_px;
     for (const cv::Point& p : f.contour)
       if (const double d = cv::norm(cv::Point2d(p) - *f.quill_px); d > far) far = d, tip = cv::Point2d(p);
-    if (far > 0) e = (tip - *f.quill_px) / far;
+    if (far > 0) {
+      e = (tip - *f.quill_px) / far;
+      // Traced from the calamus on: what lies behind it along that axis, and
+      // near it what lies off the axis (the corners where the cuts beside it
+      // meet the base band, the neighbours' fluff), is no rachis.
+      Component ahead = f;
+      ahead.mask = f.mask.clone();
+      const cv::Point2d across(-e.y, e.x);
+      for (int y = 0; y < ahead.mask.rows; ++y)
+        for (int x = 0; x < ahead.mask.cols; ++x) {
+          const cv::Point2d d = cv::Point2d(x + f.bbox.x, y + f.bbox.y) - *f.quill_px;
+          const double along = d.dot(e);
+          if (along < 0 || (along < kQuillReach * far && std::fabs(d.dot(across)) > kQuillCorridor * far))
+            ahead.mask.at<uchar>(y, x) = 0;
+        }
+      if (cv::countNonZero(ahead.mask) > 0) return trace_along(bgr, ahead, c, e, true);
+    }
   }
   return trace_along(bgr, f, c, e, true);
 }

@@ -395,6 +395,11 @@ inline constexpr double kFullConfidenceSpan = 3.0;
 // chords of the polyline that measures a spline's length (numerics, not tuned)
 inline constexpr int kLengthSamples = 512;
 
+// a white plume cut from its row (Component::quill_px): within this share of its length from the calamus the traced shaft keeps to
+// a corridor about the calamus-to-tip line (kQuillCorridor of the length each side): without it blue-jay F19, F26 were read from the foot of the cuts beside them, 3-6 mm off, with it 1-2 mm (0.05-0.12 alike)
+inline constexpr double kQuillReach = 0.15;
+inline constexpr double kQuillCorridor = 0.1;
+
 }  // namespace plumage::analysis::thresholds::shaft
 
 namespace plumage::analysis::thresholds::vane {

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "plumage/common/error.h"
+#include "plumage/common/image.h"
 #include "plumage/pipeline/fidelity.h"
 
 namespace plumage {
@@ -15,6 +16,11 @@ constexpr float kMaxStep = 4.0f;  // per probe, a channel's gain moves by at mos
 // that never reaches the card) is up to 80 % of the render gives 0.2; a response
 // proportional to the gain gives 1.
 constexpr float kMinSecant = 0.2f, kMaxSecant = 2.0f;
+// Under this the luminance secant says the render saturates: blue-jay F26's
+// substructure probes 0.08 of the ratio step's (a white plume whose render cannot
+// reach the photo's white), the sheets' other calibrations that step at all 0.2
+// and over or below 0 (noise).
+constexpr float kSaturated = 0.1f;
 
 // The probe whose render came closest to the photo (the first of equals).
 const CalibrationProbe& closest(const std::vector<CalibrationProbe>& probes) {
@@ -27,6 +33,21 @@ glm::vec3 next_gain(const std::vector<CalibrationProbe>& probes, const glm::vec3
                     const CalibrationSettings& settings) {
   if (probes.empty()) throw Error("next_gain: no probe yet");
   const CalibrationProbe& last = probes.back();
+  if (probes.size() >= 2) {
+    // The last step went toward the photo and the render's luminance barely
+    // followed (a secant under kSaturated of the ratio step's, not below 0: the
+    // render saturates, its texels clamped at the inversion's brightest or
+    // darkest fibre). More gain would only clamp more texels and tint the
+    // mid-tones it still moves, most in the channel that saturates last (a white
+    // plume's fluff turned pink), so every channel goes back to its gain before
+    // that step.
+    const CalibrationProbe& prev = probes[probes.size() - 2];
+    const float dg = luminance(last.gain) - luminance(prev.gain), dr = luminance(last.render_mean) - luminance(prev.render_mean);
+    const float p = luminance(photo_mean), r = luminance(last.render_mean), slope = dr / dg;
+    if (std::abs(dg) > 1e-6f && std::isfinite(slope) && std::isfinite(p) && r > 0.0f && slope >= 0.0f &&
+        slope < kSaturated * r / luminance(last.gain) && (dg > 0) == (p > r))
+      return prev.gain;
+  }
   glm::vec3 g = last.gain;
   for (int k = 0; k < 3; ++k) {
     const float p = photo_mean[k], r = last.render_mean[k], g1 = last.gain[k];

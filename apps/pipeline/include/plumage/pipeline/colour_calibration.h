@@ -39,7 +39,9 @@ struct ColourCalibration {
 // The next gain to try from the probes so far (at least one), per channel: the
 // first step scales by photo / render; later steps follow the secant through the
 // last two probes where its slope is 0.2-2 times the ratio step's (render / gain),
-// else scale again. Each step is at most a factor 4, and the gain stays in
+// else scale again. Where the render's luminance barely followed the last step
+// toward the photo (its secant 0-0.1 times the ratio step's: the render
+// saturates), every channel goes back to its gain before that step. Each step is at most a factor 4, and the gain stays in
 // [min_gain, max_gain]. A channel the render does not reach (render mean <= 0, or
 // not finite: calibrate_colour takes it as 0) keeps its gain.
 glm::vec3 next_gain(const std::vector<CalibrationProbe>& probes, const glm::vec3& photo_mean,
