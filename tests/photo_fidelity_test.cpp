@@ -201,10 +201,15 @@ TEST(PhotoView, RendersAreTracedOnThePhotosGridWhereItIsCoarser) {
   // Covers the crop: 10.3 + 201.6 = 211.9 -> 212; 20.6 + 54 = 74.6 -> 75.
   EXPECT_EQ(g.width, 202);
   EXPECT_EQ(g.height, 55);
-  // The panel's samples gathered there: 8 x (672 x 180) / (202 x 55) = 87 -> 64 or 128.
-  const int spp = render_spp_for(8, shown, g);
-  EXPECT_TRUE(spp == 64 || spp == 128) << spp;
+  // The panel's samples gathered there would be 8 x (672 x 180) / (202 x 55) = 87;
+  // a traced pixel needs a panel pixel's noise, not their budget: at most 2 x 8.
+  EXPECT_EQ(render_spp_for(8, shown, g), 8 * kGridSppFactor);
+  EXPECT_EQ(render_spp_for(1, shown, g), kGridSppFactor);
   EXPECT_EQ(render_spp_for(4096, shown, g), 4096);  // never fewer than asked, never more than 4096 unless asked
+  // Where the ratio is under the factor the panel's budget is what it spends.
+  PhotoCrop near = g;
+  near.width = 600, near.height = 170;  // ratio 672 x 180 / (600 x 170) = 1.19
+  EXPECT_EQ(render_spp_for(8, shown, near), 8);
   // 0.1 photo px per panel px: 67 photo pixels long, refined by 3 (0.33 px) to reach 160.
   shown.px_per_panel_px = 0.1;
   const PhotoCrop fine = render_grid_for(shown);

@@ -105,7 +105,7 @@ PhotoCrop render_grid_for(const PhotoCrop& shown) {
 int render_spp_for(int spp, const PhotoCrop& shown, const PhotoCrop& grid) {
   const double ratio = double(shown.width) * shown.height / (double(grid.width) * grid.height);
   if (!(ratio > 1)) return spp;
-  const double want = std::min(4096.0, spp * ratio);
+  const double want = std::min({4096.0, spp * ratio, double(spp) * kGridSppFactor});
   const int rounded = 1 << int(std::lround(std::log2(want)));
   return std::clamp(rounded, spp, std::max(spp, 4096));
 }

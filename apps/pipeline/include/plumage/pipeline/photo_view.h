@@ -40,8 +40,15 @@ Image crop_photo(const Image& photo, const PhotoCrop& crop);
 inline constexpr int kMinRenderSide = 160;
 PhotoCrop render_grid_for(const PhotoCrop& shown);
 
-// Samples per pixel on `grid` that spend what `spp` per pixel of `shown` would
-// (the nearest power of two, for the Sobol sampler; at least `spp`, at most 4096).
+// Samples per pixel on `grid`: what `spp` per pixel of `shown` would spend, but at
+// most kGridSppFactor times `spp` (the nearest power of two, for the Sobol sampler;
+// at least `spp`, at most 4096). A traced pixel is shown over several panel pixels,
+// so its noise is theirs: it needs the noise a panel pixel is allowed, not the
+// panel's whole budget. With the render denoised (the default) twice the panel's spp
+// leaves it σ 0.007-0.010 on the study's sheet feathers, the panel's budget (32-128
+// spp there) 0.006 at 1.6-6.5 times the time (docs/perf/p2f.md, "Traced on the
+// photo's grid").
+inline constexpr int kGridSppFactor = 2;
 int render_spp_for(int spp, const PhotoCrop& shown, const PhotoCrop& grid);
 
 // An image traced on `grid` shown on the panel `shown`: each panel pixel the
