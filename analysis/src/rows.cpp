@@ -124,9 +124,12 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
       if (std::fabs(off) >= kBaseSide * (t_max - t_min)) base_side = off > 0 ? 1 : -1;
     }
   }
+  // A row whose cuts may lean and whose base end is known (the white plumes on
+  // their thread): its cuts turn about the gaps between its bases.
+  const bool leaning = reading.max_tilt_deg > 0 && base_side != 0;
   double t_pivot = t_mid;  // where leaning cuts turn
   double base_band = 0;    // and the base band's length (px)
-  if (reading.max_tilt_deg > 0 && base_side != 0) {
+  if (leaning) {
     // Leaning cuts turn about the gap between two bases, in the band of the row
     // kBaseBand of its length from its base end, and lean along the gap
     // between the plumes above.
@@ -201,7 +204,7 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
     const std::size_t piece = piece_of(s, t);
     masks[piece].at<uchar>(p.y, p.x) = 255;
     const double across = s - lean[piece] * (t - t_pivot);
-    if (t_pivot != t_mid && std::fabs(t - t_pivot) <= 0.5 * base_band)
+    if (leaning && std::fabs(t - t_pivot) <= 0.5 * base_band)
       base_sw[piece] += p.w * s, base_w[piece] += p.w;
     lo_u[piece] = std::min(lo_u[piece], across), hi_u[piece] = std::max(hi_u[piece], across);
     if (reading.max_tilt_deg > 0) spread[piece].push_back(across);
@@ -225,7 +228,7 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
     cv::Mat& m = masks[i];
     // Plumes on a thread (leaning cuts: the white row): the thread between
     // their bases, a few pixels thin, is no part of a plume's outline.
-    if (t_pivot != t_mid)
+    if (leaning)
       cv::morphologyEx(m, m, cv::MORPH_OPEN,
                        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(kThreadOpenPx, kThreadOpenPx)));
     const cv::Rect box = cv::boundingRect(m);
@@ -242,7 +245,7 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
       const double t = base_side > 0 ? hi_v[i] : lo_v[i];
       const double s = 0.5 * (lo_u[i] + hi_u[i]) + lean[i] * (t - t_pivot) + best.s0;
       c.base_px = cv::Point2d(s * best.ux - t * best.uy, s * best.uy + t * best.ux) + cv::Point2d(region.bbox.tl());
-      if (t_pivot != t_mid && base_w[i] > 0) {
+      if (leaning && base_w[i] > 0) {
         // Leaning cuts: the calamus is where the piece's base band weighs, across.
         const double q = base_sw[i] / base_w[i] + best.s0;
         c.quill_px = cv::Point2d(q * best.ux - t * best.uy, q * best.uy + t * best.ux) + cv::Point2d(region.bbox.tl());
