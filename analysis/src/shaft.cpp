@@ -623,8 +623,8 @@ double share_along_axis(const std::vector<Line>& lines, const cv::Mat& on = cv::
 // and its x is positive when that way is more than 45 deg off the long axis (y).
 // A region about as wide as it is long is traced across its principal axis
 // when its lines run across that axis by at least kMinLineStrength: of the three
-// such regions analysed on the six photos, blue-jay F25 (a white downy plume,
-// 0.51, 72 deg off: its shaft ran across it) and goldfinch F17 (a fragment of
+// such regions analysed on the six photos, a blue-jay white downy plume read
+// with half its neighbour (0.51, 72 deg off: its shaft ran across it) and goldfinch F17 (a fragment of
 // downy tufts, 0.60, 88 deg) turn and robin F12 (0.47, 14 deg) does not; a drawn
 // round feather with streaky barbs reads 0.17-0.19, its dark outline on white
 // card weighing in all round (tests/analysis_test.cpp).

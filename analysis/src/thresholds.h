@@ -298,7 +298,7 @@ inline constexpr double kSpreadLowQuantile = 0.1;
 inline constexpr double kSpreadHighQuantile = 0.9;
 
 // --- a round region traced across its principal axis (doubled_angle_mean, trace_along; docs/analysis.md step 4)
-// length of lines' doubled-angle mean: at or over it a round region turns (blue-jay F25 0.51, goldfinch F17 0.60), under it not (drawn 0.17-0.19)
+// length of lines' doubled-angle mean: at or over it a round region turns (a blue-jay white plume read with half its neighbour 0.51, goldfinch F17 0.60), under it not (drawn 0.17-0.19)
 inline constexpr double kMinLineStrength = 0.15;
 
 // --- a row whose tips merge (lines_along_axis; docs/analysis.md "A row whose tips merge")
@@ -515,7 +515,7 @@ inline constexpr double kOpenMinLevels = 4.0;
 inline constexpr double kOpenFromWidth = 0.15;
 // ... to this share (short of the ragged edge, where every vane lets the card through); docs "Plumes"
 inline constexpr double kOpenToWidth = 0.85;
-// a feather is a plume when both sides' open share is at least this: shared photos' plumes (blue-jay F16, F25) 0.73-0.92, every other feather's lesser side <= 0.22; drawn plumes 0.43-0.48 (blur narrows the gaps); docs "Plumes"
+// a feather is a plume when both sides' open share is at least this: shared photos' plumes (blue-jay F15, F19, F23, F26) 0.67-0.84, every other feather's lesser side <= 0.22; drawn plumes 0.43-0.48 (blur narrows the gaps); docs "Plumes"
 inline constexpr double kPlumeOpenShare = 0.4;
 
 }  // namespace plumage::analysis::thresholds::vane

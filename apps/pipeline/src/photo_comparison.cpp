@@ -79,8 +79,8 @@ namespace {
 // The grid calibration probes are traced on: they need the mean over the mask, not
 // its detail, so a render grid longer than kProbeSide pixels is coarsened by a whole
 // factor to at most that. Not below: on a coarse grid a feather's edge mixes with
-// the card, and where the render's silhouette is not the photo's (blue-jay F25's
-// downy plume, IoU 0.55) a probe on half the grid read ΔE00 1.1 darker than the
+// the card, and where the render's silhouette is not the photo's (a blue-jay white
+// plume read with half its neighbour, IoU 0.55) a probe on half the grid read ΔE00 1.1 darker than the
 // render it stood for.
 PhotoCrop probe_grid_for(const PhotoCrop& render_grid) {
   constexpr int kProbeSide = 320;
