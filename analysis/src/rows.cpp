@@ -15,6 +15,32 @@
 namespace plumage::analysis {
 using namespace thresholds::segmentation;
 
+namespace {
+
+// `raw` convolved with the Gaussian `kernel` (2 reach + 1 weights), the profile's
+// ends not padded.
+std::vector<double> smoothed(const std::vector<double>& raw, const std::vector<double>& kernel, int reach) {
+  std::vector<double> out(raw.size(), 0.0);
+  for (std::size_t i = 0; i < raw.size(); ++i)
+    for (int k = -reach; k <= reach; ++k) {
+      const long j = long(i) + k;
+      if (j >= 0 && j < long(raw.size())) out[i] += kernel[std::size_t(k + reach)] * raw[std::size_t(j)];
+    }
+  return out;
+}
+
+// The positions of a profile's peaks that stand out by kRowProminence of its
+// maximum, in order along it (profile_peaks' order).
+std::vector<int> prominent_peaks(const std::vector<double>& profile) {
+  const double most = *std::max_element(profile.begin(), profile.end());
+  std::vector<int> at;
+  for (const Peak& p : profile_peaks(profile))
+    if (p.prominence >= kRowProminence * most) at.push_back(p.at);
+  return at;
+}
+
+}  // namespace
+
 // Faint feathers side by side, as glued in a row on a band (the blue-jay
 // sheet's grey downy feathers): each plume is denser than the fluff where two
 // plumes meet. The colour distance summed across the region, along each of
@@ -37,7 +63,8 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
                                        const cv::Size& image, double min_area, const RowReading& reading) {
   struct Px {
     int x, y;
-    double w;  // 0 in the region's holes (filled, but card)
+    double w;         // 0 in the region's holes (filled, but card)
+    double s = 0, t = 0;  // across and along the row, once its direction is found
   };
   std::vector<Px> px;
   for (int y = 0; y < region.mask.rows; ++y) {
@@ -63,13 +90,9 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
       const double s = p.x * ux + p.y * uy;
       s0 = std::min(s0, s), s1 = std::max(s1, s);
     }
-    std::vector<double> raw(std::size_t(std::lround(s1 - s0)) + 1, 0.0), smooth(raw.size(), 0.0);
+    std::vector<double> raw(std::size_t(std::lround(s1 - s0)) + 1, 0.0);
     for (const Px& p : px) raw[std::size_t(std::lround(p.x * ux + p.y * uy - s0))] += p.w;
-    for (std::size_t i = 0; i < raw.size(); ++i)
-      for (int k = -reach; k <= reach; ++k) {
-        const long j = long(i) + k;
-        if (j >= 0 && j < long(raw.size())) smooth[i] += kernel[std::size_t(k + reach)] * raw[std::size_t(j)];
-      }
+    std::vector<double> smooth = smoothed(raw, kernel, reach);
     const double most = *std::max_element(smooth.begin(), smooth.end());
     if (most <= 0) continue;
     double variation = 0;
@@ -79,11 +102,10 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
   }
   if (best.profile.empty()) return {};
   const std::vector<double>& v = best.profile;
-  const double most = *std::max_element(v.begin(), v.end());
-  std::vector<int> plumes;
-  for (const Peak& p : profile_peaks(v))
-    if (p.prominence >= kRowProminence * most) plumes.push_back(p.at);
+  const std::vector<int> plumes = prominent_peaks(v);
   if (plumes.size() < 2) return {};
+  // Each pixel across the row (s, from the profile's start) and along it (t).
+  for (Px& p : px) p.s = p.x * best.ux + p.y * best.uy - best.s0, p.t = -p.x * best.uy + p.y * best.ux;
   // The cuts between neighbouring plumes: lines s = at + slope (t - t_pivot)
   // (s across the row from the profile's start, t along the feathers), straight
   // across the row at the profile's lowest point between the two; with a tilt
@@ -95,10 +117,7 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
     double at = 0, slope = 0;
   };
   double t_min = 1e300, t_max = -1e300;
-  for (const Px& p : px) {
-    const double t = -p.x * best.uy + p.y * best.ux;
-    t_min = std::min(t_min, t), t_max = std::max(t_max, t);
-  }
+  for (const Px& p : px) t_min = std::min(t_min, p.t), t_max = std::max(t_max, p.t);
   const double t_mid = 0.5 * (t_min + t_max);
   std::vector<Cut> cuts;
   for (std::size_t i = 0; i + 1 < plumes.size(); ++i)
@@ -115,9 +134,8 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
     int t_count = 0;
     for (const Px& p : px) {
       if (p.w <= 0) continue;
-      const double s = p.x * best.ux + p.y * best.uy - best.s0, t = -p.x * best.uy + p.y * best.ux;
       for (const Cut& c : cuts)
-        if (std::fabs(s - c.at) <= 1.0) t_sum += t, ++t_count;
+        if (std::fabs(p.s - c.at) <= 1.0) t_sum += p.t, ++t_count;
     }
     if (t_count > 0) {
       const double off = t_sum / t_count - t_mid;
@@ -136,8 +154,7 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
     const int rows_t = int(std::lround(t_max - t_min)) + 1, cols_s = int(v.size());
     cv::Mat grid = cv::Mat::zeros(rows_t, cols_s, CV_64F);  // the own pixels' weights on the (t, s) grid
     for (const Px& p : px) {
-      const double s = p.x * best.ux + p.y * best.uy - best.s0, t = -p.x * best.uy + p.y * best.ux;
-      const int si = int(std::lround(s)), ti = int(std::lround(t - t_min));
+      const int si = int(std::lround(p.s)), ti = int(std::lround(p.t - t_min));
       if (si >= 0 && si < cols_s && ti >= 0 && ti < rows_t) grid.at<double>(ti, si) += p.w;
     }
     const int band = std::max(1, int(std::lround(kBaseBand * rows_t)));
@@ -146,17 +163,11 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
     base_band = band;
     // The band's own profile, smoothed as the row's: a peak per base. Only
     // when it shows one base per plume do the cuts lean.
-    std::vector<double> raw(std::size_t(cols_s), 0.0), base_profile(std::size_t(cols_s), 0.0);
+    std::vector<double> raw(std::size_t(cols_s), 0.0);
     for (int ti = band_lo; ti < band_lo + band; ++ti)
       for (int si = 0; si < cols_s; ++si) raw[std::size_t(si)] += grid.at<double>(ti, si);
-    for (int i = 0; i < cols_s; ++i)
-      for (int k = -reach; k <= reach; ++k)
-        if (i + k >= 0 && i + k < cols_s) base_profile[std::size_t(i)] += kernel[std::size_t(k + reach)] * raw[std::size_t(i + k)];
-    const double base_most = *std::max_element(base_profile.begin(), base_profile.end());
-    std::vector<int> bases;
-    for (const Peak& p : profile_peaks(base_profile))
-      if (p.prominence >= kRowProminence * base_most) bases.push_back(p.at);
-    std::sort(bases.begin(), bases.end());
+    const std::vector<double> base_profile = smoothed(raw, kernel, reach);
+    const std::vector<int> bases = prominent_peaks(base_profile);
     const int steps = bases.size() == plumes.size() ? int(std::floor(reading.max_tilt_deg / (180.0 / kRowAngles))) : -1;
     for (std::size_t i = 0; i + 1 < plumes.size() && steps >= 0; ++i) {
       const int at = int(std::min_element(base_profile.begin() + bases[i], base_profile.begin() + bases[i + 1]) -
@@ -197,10 +208,10 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
     lean[i] = count ? sum / count : 0.0;
   }
   std::vector<double> lo_u(n, 1e300), hi_u(n, -1e300), lo_v(n, 1e300), hi_v(n, -1e300);
-  std::vector<std::vector<double>> spread(n);  // leaning cuts: each piece's pixels across
+  std::vector<std::vector<double>> spread(n);  // cuts allowed to lean: each piece's pixels across
   std::vector<double> base_sw(n, 0.0), base_w(n, 0.0);  // and its own pixels' weighted sum across in the base band
   for (const Px& p : px) {
-    const double s = p.x * best.ux + p.y * best.uy - best.s0, t = -p.x * best.uy + p.y * best.ux;
+    const double s = p.s, t = p.t;
     const std::size_t piece = piece_of(s, t);
     masks[piece].at<uchar>(p.y, p.x) = 255;
     const double across = s - lean[piece] * (t - t_pivot);
@@ -210,8 +221,9 @@ std::vector<Component> split_faint_row(const Component& region, const cv::Mat& o
     if (reading.max_tilt_deg > 0) spread[piece].push_back(across);
     lo_v[piece] = std::min(lo_v[piece], t), hi_v[piece] = std::max(hi_v[piece], t);
   }
-  // Between leaning cuts the fluff a plume spreads past its neighbour's cut
-  // widens its extent: its width there is the middle kWidthShare of its pixels.
+  // Where cuts may lean (a row of white plumes) the fluff a plume spreads past its
+  // neighbour's cut widens its extent: its width is the middle kWidthShare of its
+  // pixels.
   std::vector<double> width(n);
   for (std::size_t i = 0; i < n; ++i) {
     width[i] = hi_u[i] - lo_u[i] + 1;
