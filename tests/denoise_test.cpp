@@ -156,13 +156,9 @@ TEST(Denoise, TheFilmsVarianceIsTheNoiseBetweenSeeds) {
   // seeds by less than their spread suggests, 16 % less here, so the filter is told
   // a little more noise than there is), and a film made without variance refuses
   // to give one.
-  SceneOptions so;
-  so.backdrop = {true, glm::vec3(0.8f)};
-  const Scene scene(test::make_test_feather(30.0f, 0.8f, 0.06f), so);
-  const LightSet lights = test::grey_sky_and_lamp(scene.feather_bounds());
-  const FibreMaterial material(HairParams{});
-  const PathIntegrator integrator(scene, lights, material, IntegratorSettings{});
-  const Camera camera(CameraSpec{}, 48, 40, scene.feather_bounds());
+  const test::LitTestFeather lit;
+  const PathIntegrator& integrator = lit.integrator;
+  const Camera camera(CameraSpec{}, 48, 40, lit.scene.feather_bounds());
   RenderSettings rs;
   rs.spp = 16;
   rs.progress = false;

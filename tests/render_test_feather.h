@@ -7,7 +7,10 @@
 #include "plumage/common/bounds.h"
 #include "plumage/common/feather.h"
 #include "plumage/common/image.h"
+#include "plumage/renderer/fibre_material.h"
 #include "plumage/renderer/light_set.h"
+#include "plumage/renderer/path_integrator.h"
+#include "plumage/renderer/scene.h"
 
 namespace plumage::test {
 
@@ -73,5 +76,18 @@ inline Curve straight_curve(CurveKind kind, const glm::vec3& centre, float half_
   }
   return c;
 }
+
+// make_test_feather(30, 0.8, 0.06) on a light card (0.8) under grey_sky_and_lamp,
+// in hair mode with the default fibre: what a render of the test feather needs.
+struct LitTestFeather {
+  Scene scene;
+  LightSet lights;
+  FibreMaterial material{HairParams{}};
+  PathIntegrator integrator;
+  LitTestFeather()
+      : scene(make_test_feather(30.0f, 0.8f, 0.06f), SceneOptions{ShadingMode::Hair, {true, glm::vec3(0.8f)}}),
+        lights(grey_sky_and_lamp(scene.feather_bounds())),
+        integrator(scene, lights, material, IntegratorSettings{}) {}
+};
 
 }  // namespace plumage::test

@@ -30,13 +30,9 @@ bool same_pixels(const Image& a, const Image& b) {
 }  // namespace
 
 TEST(RenderTiles, PartsMergeToTheSingleRenderBitForBit) {
-  SceneOptions so;
-  so.backdrop = {true, glm::vec3(0.8f)};
-  const Scene scene(test::make_test_feather(30.0f, 0.8f, 0.06f), so);
-  const LightSet lights = test::grey_sky_and_lamp(scene.feather_bounds());
-  const FibreMaterial material(HairParams{});
-  const PathIntegrator integrator(scene, lights, material, IntegratorSettings{});
-  const Camera camera(CameraSpec{}, 37, 29, scene.feather_bounds());  // sizes no band count divides
+  const test::LitTestFeather lit;
+  const PathIntegrator& integrator = lit.integrator;
+  const Camera camera(CameraSpec{}, 37, 29, lit.scene.feather_bounds());  // sizes no band count divides
   for (const char* how : {"uniform", "variance", "adaptive"}) {
     RenderSettings rs;
     rs.spp = 16;
