@@ -11,6 +11,7 @@
 
 #include "plumage/common/bspline.h"
 #include "plumage/common/error.h"
+#include "plumage/common/finite.h"
 
 using namespace plumage;
 
@@ -583,9 +584,6 @@ TEST(BSplinePenalised, RejectsBadInput) {
 
 // --- stress ---------------------------------------------------------------------
 
-bool finite(const glm::dvec3& p) {
-  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
-}
 
 TEST(BSplineStress, CoincidentControlPoints) {
   std::mt19937 rng(13);
@@ -670,7 +668,7 @@ TEST(BSplineFuzz, FitNeverReturnsNaN) {
       BSpline3 fit;
       ASSERT_NO_THROW(fit = fit_bspline(pts, n, {}, clamp))
           << "trial " << trial << " clamp " << clamp;
-      for (const auto& p : fit.control_points()) ASSERT_TRUE(finite(p)) << "trial " << trial;
+      for (const auto& p : fit.control_points()) ASSERT_TRUE(all_finite(p)) << "trial " << trial;
       if (clamp) {
         EXPECT_NEAR(glm::length(fit.eval(0) - pts.front()), 0.0,
                     1e-9 * (1 + glm::length(pts.front())));

@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "plumage/common/finite.h"
 #include "plumage/common/frame.h"
 
 using namespace plumage;
@@ -17,13 +18,10 @@ constexpr float kTol = 1e-5f;
 const float kNaN = std::numeric_limits<float>::quiet_NaN();
 const float kDenorm = std::numeric_limits<float>::denorm_min();
 
-bool finite(const glm::vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
 
 // Checked in double so the test's own rounding does not hide or fake an error.
 ::testing::AssertionResult is_orthonormal_right_handed(const Frame& f) {
-  if (!finite(f.t) || !finite(f.b) || !finite(f.n))
+  if (!all_finite(f.t) || !all_finite(f.b) || !all_finite(f.n))
     return ::testing::AssertionFailure() << "non-finite frame";
   const glm::dvec3 t(f.t), b(f.b), n(f.n);
   const double errors[] = {std::fabs(glm::length(t) - 1),    std::fabs(glm::length(b) - 1),

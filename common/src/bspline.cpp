@@ -4,6 +4,7 @@
 #include <string>
 
 #include "plumage/common/error.h"
+#include "plumage/common/finite.h"
 
 namespace plumage {
 namespace {
@@ -280,9 +281,6 @@ class BandedNormalEquations {
   std::vector<glm::dvec3> r_;
 };
 
-bool finite(const glm::dvec3& p) {
-  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
-}
 
 // Chord-length parameters (Lee, "Choosing nodes in parametric curve interpolation",
 // CAD 1989): t_j proportional to the polyline length up to point j. Uniform when
@@ -313,7 +311,7 @@ BSpline3 fit_bspline(std::span<const glm::dvec3> points, int num_control_points,
     throw Error("fit_bspline: " + std::to_string(params.size()) + " parameters for " +
                 std::to_string(m) + " points; give one parameter per point or none");
   for (std::size_t j = 0; j < m; ++j)
-    if (!finite(points[j]))
+    if (!all_finite(points[j]))
       throw Error("fit_bspline: point " + std::to_string(j) +
                   " is not finite (NaN or Inf); remove it");
   for (std::size_t j = 0; j < params.size(); ++j)
@@ -413,7 +411,7 @@ BSpline3 fit_bspline(std::span<const glm::dvec3> points, int num_control_points,
   }
   for (glm::dvec3& p : cp) {
     p = origin + scale * p;
-    if (!finite(p)) throw Error("fit_bspline: the fit diverged (non-finite control point)");
+    if (!all_finite(p)) throw Error("fit_bspline: the fit diverged (non-finite control point)");
   }
   return BSpline3(std::move(cp));
 }
@@ -433,7 +431,7 @@ BSpline3 fit_bspline_penalised(std::span<const glm::dvec3> points, std::span<con
   if (params.size() != m || weights.size() != m)
     throw Error(std::string(fn) + "give one parameter and one weight per point");
   for (std::size_t j = 0; j < m; ++j) {
-    if (!finite(points[j])) throw Error(std::string(fn) + "point " + std::to_string(j) + " is not finite");
+    if (!all_finite(points[j])) throw Error(std::string(fn) + "point " + std::to_string(j) + " is not finite");
     if (!(params[j] >= 0.0 && params[j] <= 1.0))
       throw Error(std::string(fn) + "parameter " + std::to_string(j) + " is outside [0,1]");
     if (!(weights[j] >= 0.0 && std::isfinite(weights[j])))
@@ -485,7 +483,7 @@ BSpline3 fit_bspline_penalised(std::span<const glm::dvec3> points, std::span<con
     throw Error(std::string(fn) + "the weighted points do not determine a curve; give weight to more points");
   for (glm::dvec3& p : x) {
     p = origin + scale * p;
-    if (!finite(p)) throw Error(std::string(fn) + "the fit diverged (non-finite control point)");
+    if (!all_finite(p)) throw Error(std::string(fn) + "the fit diverged (non-finite control point)");
   }
   return BSpline3(std::move(x));
 }

@@ -12,6 +12,7 @@
 #include "plumage/common/atomic_file.h"
 #include "plumage/common/constants.h"
 #include "plumage/common/error.h"
+#include "plumage/common/finite.h"
 #include "plumage/common/text.h"
 
 namespace plumage {
@@ -27,12 +28,6 @@ using detail::Token;
 
 constexpr float kSimilarityTolerance = 1e-4f;
 
-bool finite(const glm::mat4& m) {
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r)
-      if (!std::isfinite(m[c][r])) return false;
-  return true;
-}
 
 
 const char* const kPlaceForm =
@@ -150,7 +145,7 @@ void Reader::parse_place(FeatherScene& s) {
     }
     m = step * m;
   }
-  if (!finite(m) || !similarity_of(m))
+  if (!all_finite(m) || !similarity_of(m))
     fail(tok_[0], "place: the transform overflows a float or its scale is too small; use smaller numbers");
   s.placements.push_back({it->second, m, line_no_});
 }
@@ -223,7 +218,7 @@ FeatherScene Reader::parse() {
 }  // namespace
 
 std::optional<Similarity> similarity_of(const glm::mat4& m) {
-  if (!finite(m) || m[0][3] != 0 || m[1][3] != 0 || m[2][3] != 0 || m[3][3] != 1) return std::nullopt;
+  if (!all_finite(m) || m[0][3] != 0 || m[1][3] != 0 || m[2][3] != 0 || m[3][3] != 1) return std::nullopt;
   const glm::mat3 a(m);
   const glm::mat3 g = glm::transpose(a) * a;  // scale^2 x identity for a similarity
   const float s2 = (g[0][0] + g[1][1] + g[2][2]) / 3.0f;

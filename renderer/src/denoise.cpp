@@ -17,6 +17,7 @@
 #include <tbb/task_arena.h>
 
 #include "plumage/common/error.h"
+#include "plumage/common/finite.h"
 
 namespace plumage {
 
@@ -27,10 +28,6 @@ void validate(const DenoiseSettings& s) {
   if (!(s.alpha >= 0) || !std::isfinite(s.alpha)) throw Error("denoise alpha must be 0 or more");
   if (s.threads < 0) throw Error("denoise threads must be 0 (all cores) or more");
 }
-
-namespace {
-bool finite3(const float* v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
-}  // namespace
 
 Image denoise(const Image& colour, const Image& variance, const DenoiseSettings& s) {
   validate(s);
@@ -48,7 +45,8 @@ Image denoise(const Image& colour, const Image& variance, const DenoiseSettings&
     for (int x = 0; x < W; ++x) {
       const float* c = colour.at(x, y);
       const float* v = variance.at(x, y);
-      ok[std::size_t(y) * W + x] = finite3(c) && finite3(v) && v[0] >= 0 && v[1] >= 0 && v[2] >= 0;
+      ok[std::size_t(y) * W + x] = all_finite(glm::vec3(c[0], c[1], c[2])) && all_finite(glm::vec3(v[0], v[1], v[2])) &&
+                                    v[0] >= 0 && v[1] >= 0 && v[2] >= 0;
     }
   const float k2 = s.k * s.k, alpha = s.alpha;
   constexpr float kEps = 1e-10f;

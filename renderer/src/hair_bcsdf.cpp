@@ -15,6 +15,7 @@
 #include "hair_terms.h"
 #include "medulla_terms.h"
 #include "plumage/common/error.h"
+#include "plumage/common/finite.h"
 
 namespace plumage {
 
@@ -33,9 +34,6 @@ constexpr float kMinAlbedo = 1e-4f;  // ln(0) would make sigma_a infinite
   throw Error(msg.str());
 }
 
-bool finite(const glm::vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
 
 double clamp_beta(double beta) { return std::clamp(beta, kBetaMin, 1.0); }
 
@@ -100,7 +98,7 @@ glm::vec3 sigma_a_from_melanin(float eumelanin, float pheomelanin) {
 // Chiang et al. 2016 eq. 9: sigma_a = (ln A / (5.969 - 0.215 bn + 2.532 bn^2 -
 // 10.73 bn^3 + 5.574 bn^4 + 0.245 bn^5))^2; the denominator is >= 3.375 on (0,1].
 glm::vec3 sigma_a_from_albedo(const glm::vec3& albedo, float beta_n) {
-  if (!finite(albedo)) fail("albedo", "colour", albedo.x + albedo.y + albedo.z, "is not finite");
+  if (!all_finite(albedo)) fail("albedo", "colour", albedo.x + albedo.y + albedo.z, "is not finite");
   if (!std::isfinite(beta_n)) fail("albedo", "beta_n", beta_n, "is not finite");
   const double b = clamp_beta(beta_n);
   const double denom =
@@ -122,7 +120,7 @@ float mean_normal_chord(float eta) {
 }
 
 glm::vec3 sigma_a_from_layer_albedo(const glm::vec3& albedo, float eta) {
-  if (!finite(albedo)) fail("albedo", "colour", albedo.x + albedo.y + albedo.z, "is not finite");
+  if (!all_finite(albedo)) fail("albedo", "colour", albedo.x + albedo.y + albedo.z, "is not finite");
   const double path = 2.0 * double(mean_normal_chord(eta));  // down to the card and back up
   glm::vec3 sigma;
   for (int c = 0; c < 3; ++c) sigma[c] = float(-std::log(double(std::clamp(albedo[c], kMinAlbedo, 1.0f))) / path);
@@ -192,7 +190,7 @@ HairBCSDF::HairBCSDF(const HairParams& params, float h) : p_(params) {
 }
 
 HairBCSDF::HairBCSDF(const HairParams& params, float h, const glm::vec3& wo) : HairBCSDF(params, h) {
-  if (!finite(wo)) return;
+  if (!all_finite(wo)) return;
   const Longitude o = longitude(wo);
   bound_at_ = attenuation(o.sin, o.cos);
   bound_wo_ = wo;
@@ -277,7 +275,7 @@ void HairBCSDF::medulla_attenuation(Attenuation& at, double F, double sin_gamma_
 // Chiang et al. 2016 eq. 2: f = sum_p Mp Ap Np / cos(theta_i); the pdf of their §4.3
 // sampling is sum_p w_p Mp Np (Mp Np is a density over solid angle).
 HairBCSDF::Eval HairBCSDF::eval(const glm::vec3& wo, const glm::vec3& wi) const {
-  if (!finite(wo) || !finite(wi)) return {glm::dvec3(0.0), 0.0};
+  if (!all_finite(wo) || !all_finite(wi)) return {glm::dvec3(0.0), 0.0};
   const Longitude o = longitude(wo);
   return eval(wo, wi, attenuation_for(wo, o.sin, o.cos));
 }
@@ -331,14 +329,14 @@ glm::vec3 HairBCSDF::f_pdf(const glm::vec3& wo, const glm::vec3& wi, float* pdf)
 }
 
 void HairBCSDF::f_cos(const glm::vec3& wo, std::span<const glm::vec3> wi, std::span<glm::vec3> out) const {
-  if (!finite(wo)) {
+  if (!all_finite(wo)) {
     std::fill(out.begin(), out.end(), glm::vec3(0));
     return;
   }
   const Longitude o = longitude(wo);
   const Attenuation at = attenuation_for(wo, o.sin, o.cos);
   for (std::size_t k = 0; k < wi.size(); ++k)
-    out[k] = finite(wi[k]) ? glm::vec3(eval(wo, wi[k], at).f) * bcsdf_cos(wi[k]) : glm::vec3(0);
+    out[k] = all_finite(wi[k]) ? glm::vec3(eval(wo, wi[k], at).f) * bcsdf_cos(wi[k]) : glm::vec3(0);
 }
 
 namespace {
@@ -431,7 +429,7 @@ void HairBCSDF::f_cos_estimate(const glm::vec3& wo, std::size_t n, const float* 
   float* __restrict out_r = out[0];
   float* __restrict out_g = out[1];
   float* __restrict out_b = out[2];
-  if (!finite(wo)) {
+  if (!all_finite(wo)) {
     std::fill(out_r, out_r + n, 0.0f);
     std::fill(out_g, out_g + n, 0.0f);
     std::fill(out_b, out_b + n, 0.0f);
@@ -479,7 +477,7 @@ void HairBCSDF::f_cos_estimate(const glm::vec3& wo, std::size_t n, const float* 
 // the azimuth from its trimmed logistic (uniform for the residual).
 bool HairBCSDF::sample_direction(const glm::vec3& wo, const glm::vec2& u0, const glm::vec2& u1,
                                  LobeDirection& d) const {
-  if (!finite(wo)) return false;
+  if (!all_finite(wo)) return false;
   const Longitude o = longitude(wo);
   d.at = attenuation_for(wo, o.sin, o.cos);
   const Attenuation& at = d.at;
@@ -503,7 +501,7 @@ bool HairBCSDF::sample_direction(const glm::vec3& wo, const glm::vec2& u0, const
     const double cos_i = std::sqrt(std::max(0.0, 1.0 - sin_i * sin_i));
     const double phi_i = azimuth(wo) + medulla::sample_lambertian_azimuth(u0.y, u);
     const glm::vec3 wi = glm::normalize(glm::vec3(glm::dvec3(sin_i, cos_i * std::sin(phi_i), cos_i * std::cos(phi_i))));
-    if (!finite(wi)) return false;
+    if (!all_finite(wi)) return false;
     d.wi = wi;
     d.lobe = p;
     return true;
@@ -521,7 +519,7 @@ bool HairBCSDF::sample_direction(const glm::vec3& wo, const glm::vec2& u0, const
   const double phi_i = azimuth(wo) + dphi;
   const glm::vec3 wi = glm::normalize(
       glm::vec3(glm::dvec3(sin_i, cos_i * std::sin(phi_i), cos_i * std::cos(phi_i))));
-  if (!finite(wi)) return false;
+  if (!all_finite(wi)) return false;
   d.wi = wi;
   d.lobe = p;
   return true;

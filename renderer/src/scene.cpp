@@ -13,13 +13,13 @@
 #include "embree_device.h"
 #include "float_mode.h"
 #include "plumage/common/error.h"
+#include "plumage/common/finite.h"
 #include "plumage/common/stats.h"
 #include "plumage/renderer/view_cull.h"
 
 namespace plumage {
 namespace {
 
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 StatCounter g_culled("Scene/Curves culled (outside the view and its shadow reach)");
 
@@ -36,7 +36,7 @@ Scene::Scene(const Feather& feather, const SceneOptions& options, std::shared_pt
       throw Error(which + " has " + std::to_string(c.points.size()) +
                   " control points; a cubic B-spline needs at least 4");
     for (const ControlPoint& cp : c.points)
-      if (!finite(cp.p) || !std::isfinite(cp.radius) || cp.radius < 0)
+      if (!all_finite(cp.p) || !std::isfinite(cp.radius) || cp.radius < 0)
         throw Error(which + " has a non-finite position or a negative radius; fix the curve file");
   }
   if (feather_.curves.empty()) throw Error("the feather has no curves to render");
